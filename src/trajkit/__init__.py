@@ -1,0 +1,68 @@
+"""trajkit: robot trajectories that are exact, checked and easy to export.
+
+Every planner returns a :class:`Trajectory`, an N-DoF piecewise polynomial in
+time. SI units and radians throughout.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from trajkit.errors import (
+    ContinuityWarning,
+    InfeasibleError,
+    InvalidInputError,
+    TrajkitError,
+    UnreachableError,
+)
+from trajkit.limits import Limits, Report, Violation, check
+from trajkit.profiles import (
+    cubic,
+    cubic_spline,
+    cubic_via,
+    polynomial,
+    quintic,
+    quintic_via,
+    septic,
+)
+from trajkit.samples import Samples
+from trajkit.trajectory import Extrema, State, Trajectory
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "ContinuityWarning",
+    "Extrema",
+    "InfeasibleError",
+    "InvalidInputError",
+    "Limits",
+    "Report",
+    "Samples",
+    "State",
+    "Trajectory",
+    "TrajkitError",
+    "UnreachableError",
+    "Violation",
+    "__version__",
+    "check",
+    "cubic",
+    "cubic_spline",
+    "cubic_via",
+    "plot",
+    "polynomial",
+    "quintic",
+    "quintic_via",
+    "septic",
+]
+
+# Submodules that pull in heavy libraries (matplotlib) load on first use only.
+_LAZY = {"plot": "trajkit.viz.plot"}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        module = importlib.import_module(_LAZY[name])
+        globals()[name] = module
+        return module
+    raise AttributeError(f"module 'trajkit' has no attribute {name!r}")

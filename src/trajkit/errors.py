@@ -1,0 +1,43 @@
+"""Exceptions and warnings raised by trajkit.
+
+Every error trajkit raises on purpose derives from :class:`TrajkitError`, so a
+caller can catch them all at once; the command-line tool turns them into one line
+on stderr and exit status 2.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ContinuityWarning",
+    "InfeasibleError",
+    "InvalidInputError",
+    "TrajkitError",
+    "UnreachableError",
+]
+
+
+class TrajkitError(Exception):
+    """Base class of every error trajkit raises on purpose."""
+
+
+class InvalidInputError(TrajkitError, ValueError):
+    """An argument is malformed: NaN or inf, wrong shape, wrong sign, unsorted times.
+
+    The message names the argument, the offending value and the rule it breaks.
+    """
+
+
+class InfeasibleError(TrajkitError):
+    """The request is well formed but cannot be met under the given limits.
+
+    The message names the parameter, its value and the bound that rules it out,
+    e.g. ``duration 1.0 s is below the minimum 1.147 s set by vmax=0.5236 rad/s``.
+    """
+
+
+class UnreachableError(TrajkitError):
+    """A pose or point lies outside a robot's workspace."""
+
+
+class ContinuityWarning(UserWarning):
+    """Two trajectories were joined with a jump in velocity or acceleration."""

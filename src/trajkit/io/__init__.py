@@ -1,0 +1,5 @@
+"""Reading and writing trajkit's files."""
+
+from trajkit.io.atomic import atomic_write
+
+__all__ = ["atomic_write"]

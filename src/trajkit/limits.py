@@ -1,0 +1,256 @@
+"""Kinematic limits and their exact verification on a trajectory's polynomial pieces."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit.errors import InvalidInputError
+
+if TYPE_CHECKING:
+    from trajkit.trajectory import Trajectory
+
+__all__ = ["Bounds", "Limits", "Report", "Violation", "check"]
+
+QUANTITIES = ("position", "velocity", "acceleration", "jerk")
+UNIT_SUFFIX = ("", "/s", "/s^2", "/s^3")
+
+LimitSpec = ArrayLike | tuple[ArrayLike, ArrayLike] | None
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Lower and upper bounds of one quantity, each broadcastable to ``(ndof,)``."""
+
+    lower: FloatArray
+    upper: FloatArray
+
+    def for_ndof(self, name: str, ndof: int) -> tuple[FloatArray, FloatArray]:
+        """Bounds broadcast to ``(ndof,)``; refuses a per-joint length that differs."""
+        out = []
+        for side, value in (("lower", self.lower), ("upper", self.upper)):
+            if value.ndim == 1 and value.size != ndof:
+                raise InvalidInputError(
+                    f"{name} {side} bounds give {value.size} joints but the trajectory has {ndof}"
+                )
+            out.append(np.broadcast_to(value, (ndof,)))
+        return out[0], out[1]
+
+
+def _bounds(name: str, spec: LimitSpec) -> Bounds | None:
+    """Read one limit: a magnitude (symmetric), or a tuple ``(lower, upper)``."""
+    if spec is None:
+        return None
+    if isinstance(spec, tuple):
+        if len(spec) != 2:
+            raise InvalidInputError(
+                f"{name} given as a tuple must be (lower, upper), got {len(spec)} items; "
+                "pass a list or array for per-joint symmetric limits"
+            )
+        lower = finite_array(f"{name} lower bound", spec[0])
+        upper = finite_array(f"{name} upper bound", spec[1])
+        for side, value in (("lower", lower), ("upper", upper)):
+            if value.ndim > 1:
+                raise InvalidInputError(
+                    f"{name} {side} bound must be a number or one number per joint, "
+                    f"got shape {value.shape}"
+                )
+        if lower.ndim == 1 and upper.ndim == 1 and lower.size != upper.size:
+            raise InvalidInputError(
+                f"{name} lower bounds give {lower.size} joints but upper bounds {upper.size}"
+            )
+        if np.any(lower >= upper):
+            raise InvalidInputError(
+                f"{name} lower bound must be below the upper bound, got ({lower}, {upper})"
+            )
+        if name != "position" and (np.any(lower > 0) or np.any(upper < 0)):
+            raise InvalidInputError(
+                f"{name}=({lower}, {upper}): a tuple is read as (lower, upper) and must "
+                "contain 0 (a robot at rest must be within its limits); pass a list or "
+                "array for per-joint symmetric limits"
+            )
+        return Bounds(lower, upper)
+    if name == "position":
+        raise InvalidInputError(
+            "position limits must be a tuple (lower, upper) of numbers or per-joint arrays"
+        )
+    magnitude = finite_array(name, spec)
+    if magnitude.ndim > 1:
+        raise InvalidInputError(
+            f"{name} must be a number or one number per joint, got shape {magnitude.shape}"
+        )
+    if np.any(magnitude <= 0):
+        raise InvalidInputError(f"{name} limits must be > 0, got {magnitude}")
+    return Bounds(-magnitude, magnitude)
+
+
+@dataclass(frozen=True, init=False)
+class Limits:
+    """Kinematic limits of a robot's joints (SI units: rad or m, per second...).
+
+    Parameters
+    ----------
+    position : tuple (lower, upper), optional
+        Joint range; each side a number or one number per joint.
+    velocity, acceleration, jerk : number, sequence or tuple, optional
+        A number or a list/array (one per joint) means the symmetric bound
+        ``-v <= q' <= v``; a ``tuple`` ``(lower, upper)`` gives asymmetric bounds,
+        each side a number or per-joint array, with ``lower <= 0 <= upper``.
+
+    Examples
+    --------
+    >>> Limits(velocity=[1.0, 2.0], acceleration=(-3.0, 5.0))  # doctest: +ELLIPSIS
+    Limits(...)
+    """
+
+    position: Bounds | None
+    velocity: Bounds | None
+    acceleration: Bounds | None
+    jerk: Bounds | None
+
+    def __init__(
+        self,
+        position: LimitSpec = None,
+        velocity: LimitSpec = None,
+        acceleration: LimitSpec = None,
+        jerk: LimitSpec = None,
+    ) -> None:
+        for name, spec in zip(QUANTITIES, (position, velocity, acceleration, jerk), strict=True):
+            object.__setattr__(self, name, _bounds(name, spec))
+
+    def __repr__(self) -> str:
+        parts = []
+        for name in QUANTITIES:
+            bounds = getattr(self, name)
+            if bounds is not None:
+                parts.append(f"{name}=({bounds.lower.tolist()}, {bounds.upper.tolist()})")
+        return f"Limits({', '.join(parts)})"
+
+
+@dataclass(frozen=True)
+class Violation:
+    """The worst excursion of one quantity of one joint past one of its bounds.
+
+    ``joint`` counts from 0; ``time`` (s) is where ``value`` occurs; ``bound`` is the
+    limit it passes (the lower bound when ``value`` is below it).
+    """
+
+    quantity: str
+    joint: int
+    time: float
+    value: float
+    bound: float
+
+    @property
+    def excess(self) -> float:
+        """How far past the bound, >= 0, in the quantity's unit."""
+        return abs(self.value - self.bound)
+
+    def __str__(self) -> str:
+        return (
+            f"{self.quantity} of joint {self.joint + 1} reaches {self.value:.6g} "
+            f"at t={self.time:.6g} s, beyond the bound {self.bound:.6g}"
+        )
+
+
+@dataclass(frozen=True)
+class Report:
+    """Outcome of :func:`check`: ``ok`` and the violations, plus the peaks it saw.
+
+    ``peaks[quantity]`` is ``(minimum, maximum)`` per joint for every quantity that
+    had a limit; ``bounds[quantity]`` the ``(lower, upper)`` arrays checked against.
+    """
+
+    violations: tuple[Violation, ...]
+    peaks: dict[str, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
+    bounds: dict[str, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        """True when no limit is exceeded."""
+        return not self.violations
+
+    def __bool__(self) -> bool:
+        return self.ok
+
+    def __str__(self) -> str:
+        lines = [f"limit check: {'OK' if self.ok else f'{len(self.violations)} violation(s)'}"]
+        if self.peaks:
+            header = f"{'quantity':<13}{'joint':>6}{'min':>14}{'max':>14}{'lower':>14}{'upper':>14}"
+            lines += [header, "-" * len(header)]
+            for quantity, (low, high) in self.peaks.items():
+                lower, upper = self.bounds[quantity]
+                for j in range(low.size):
+                    flag = ""
+                    if any(v.quantity == quantity and v.joint == j for v in self.violations):
+                        flag = "  <-- exceeds"
+                    lines.append(
+                        f"{quantity:<13}{j + 1:>6}{low[j]:>14.6g}{high[j]:>14.6g}"
+                        f"{lower[j]:>14.6g}{upper[j]:>14.6g}{flag}"
+                    )
+        lines += [f"  {v}" for v in self.violations]
+        return "\n".join(lines)
+
+
+def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Report:
+    """Verify ``limits`` on ``trajectory`` exactly, from its polynomial pieces.
+
+    The extrema of every piece come from the roots of the next derivative, so an
+    excursion between two samples is found. A value counts as a violation when it
+    passes its bound by more than ``rtol`` times the larger of
+    ``|lower|`` and ``|upper|``: time-optimal trajectories touch
+    their limits, and the last bits of floating point must not flag them.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+    limits : Limits
+    rtol : float
+        Relative tolerance on each bound (default 1e-9).
+
+    Returns
+    -------
+    Report
+        At most one violation per quantity, joint and side: the worst one.
+    """
+    if not isinstance(limits, Limits):
+        raise InvalidInputError(f"limits must be a trajkit.Limits, got {type(limits).__name__}")
+    tolerance = positive_scalar("rtol", rtol)
+    violations: list[Violation] = []
+    peaks: dict[str, tuple[FloatArray, FloatArray]] = {}
+    checked: dict[str, tuple[FloatArray, FloatArray]] = {}
+    for order, quantity in enumerate(QUANTITIES):
+        bounds: Bounds | None = getattr(limits, quantity)
+        if bounds is None:
+            continue
+        lower, upper = bounds.for_ndof(quantity, trajectory.ndof)
+        found = trajectory.extrema(order)
+        peaks[quantity] = (found.minimum, found.maximum)
+        checked[quantity] = (lower, upper)
+        slack = tolerance * np.maximum(np.abs(lower), np.abs(upper))
+        for j in range(trajectory.ndof):
+            if found.minimum[j] < lower[j] - slack[j]:
+                violations.append(
+                    Violation(
+                        quantity,
+                        j,
+                        float(found.time_of_minimum[j]),
+                        float(found.minimum[j]),
+                        float(lower[j]),
+                    )
+                )
+            if found.maximum[j] > upper[j] + slack[j]:
+                violations.append(
+                    Violation(
+                        quantity,
+                        j,
+                        float(found.time_of_maximum[j]),
+                        float(found.maximum[j]),
+                        float(upper[j]),
+                    )
+                )
+    return Report(tuple(violations), peaks, checked)

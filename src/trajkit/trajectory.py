@@ -1,0 +1,396 @@
+"""The core object: an immutable N-DoF piecewise polynomial in time."""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit import _poly
+from trajkit._validation import (
+    FloatArray,
+    finite_array,
+    increasing_times,
+    positive_scalar,
+)
+from trajkit.errors import ContinuityWarning, InvalidInputError
+
+if TYPE_CHECKING:
+    from trajkit.limits import Limits, Report
+    from trajkit.samples import Samples
+
+__all__ = ["Extrema", "State", "Trajectory"]
+
+_QUANTITY = ("position", "velocity", "acceleration", "jerk")
+
+
+@dataclass(frozen=True)
+class State:
+    """Kinematic state of every joint at one instant (arrays of shape ``(ndof,)``)."""
+
+    position: FloatArray
+    velocity: FloatArray
+    acceleration: FloatArray
+    jerk: FloatArray
+
+
+@dataclass(frozen=True)
+class Extrema:
+    """Exact per-joint minima and maxima of one derivative order over the whole trajectory.
+
+    Attributes
+    ----------
+    order : int
+        Derivative order (0 position, 1 velocity, 2 acceleration, 3 jerk).
+    minimum, maximum : ndarray, shape (ndof,)
+        Extreme values (units of the trajectory per second**order).
+    time_of_minimum, time_of_maximum : ndarray, shape (ndof,)
+        Times (s) at which they occur (the earliest, if several pieces tie).
+    """
+
+    order: int
+    minimum: FloatArray
+    time_of_minimum: FloatArray
+    maximum: FloatArray
+    time_of_maximum: FloatArray
+
+    @property
+    def peak(self) -> FloatArray:
+        """Largest magnitude per joint, ``max(|minimum|, |maximum|)``."""
+        return np.maximum(np.abs(self.minimum), np.abs(self.maximum))
+
+
+class Trajectory:
+    """An N-DoF piecewise polynomial ``q(t)``, the object every trajkit planner returns.
+
+    Piece ``i`` covers ``breakpoints[i] <= t <= breakpoints[i + 1]`` and is the
+    polynomial ``sum_j coefficients[j, i, :] * (t - breakpoints[i]) ** (k - j)``:
+    the local power basis, highest power first, as in :class:`scipy.interpolate.PPoly`.
+
+    Parameters
+    ----------
+    breakpoints : array_like, shape (m + 1,)
+        Strictly increasing times (s) bounding the ``m`` pieces.
+    coefficients : array_like, shape (k + 1, m, ndof) or (k + 1, m)
+        Local power-basis coefficients; a 2-D array means one joint.
+    info : mapping, optional
+        Plan data a planner attaches (phase times, limiting joint, ...). Read-only.
+
+    Notes
+    -----
+    Times outside ``[start_time, end_time]`` are clamped: position and every
+    derivative take their value at the nearest end (the end state is held). For a
+    trajectory that starts and ends at rest this is the same as standing still.
+
+    The object never changes after construction; methods return new trajectories.
+    """
+
+    __slots__ = ("_breakpoints", "_coefficients", "_derivatives", "_info")
+
+    def __init__(
+        self,
+        breakpoints: ArrayLike,
+        coefficients: ArrayLike,
+        *,
+        info: Mapping[str, Any] | None = None,
+    ) -> None:
+        times = increasing_times("breakpoints", breakpoints)
+        c = finite_array("coefficients", coefficients)
+        if c.ndim == 2:
+            c = c[:, :, np.newaxis]
+        if c.ndim != 3:
+            raise InvalidInputError(
+                f"coefficients must have shape (k + 1, m, ndof), got shape {c.shape}"
+            )
+        if c.shape[0] == 0 or c.shape[2] == 0:
+            raise InvalidInputError(
+                f"coefficients must have at least one order and one joint, got shape {c.shape}"
+            )
+        if c.shape[1] != times.size - 1:
+            raise InvalidInputError(
+                f"coefficients describe {c.shape[1]} pieces but breakpoints bound "
+                f"{times.size - 1}; coefficients.shape[1] must equal len(breakpoints) - 1"
+            )
+        times.setflags(write=False)
+        c.setflags(write=False)
+        self._breakpoints = times
+        self._coefficients = c
+        self._derivatives: dict[int, FloatArray] = {0: c}
+        self._info: Mapping[str, Any] = MappingProxyType(dict(info or {}))
+
+    # ------------------------------------------------------------------ shape
+    @property
+    def breakpoints(self) -> FloatArray:
+        """Piece boundaries (s), shape ``(m + 1,)``, read-only."""
+        return self._breakpoints
+
+    @property
+    def coefficients(self) -> FloatArray:
+        """Local power-basis coefficients, shape ``(k + 1, m, ndof)``, read-only."""
+        return self._coefficients
+
+    @property
+    def ndof(self) -> int:
+        """Number of joints (degrees of freedom)."""
+        return int(self._coefficients.shape[2])
+
+    @property
+    def degree(self) -> int:
+        """Polynomial degree ``k`` of the storage (some pieces may be of lower degree)."""
+        return int(self._coefficients.shape[0] - 1)
+
+    @property
+    def start_time(self) -> float:
+        """First breakpoint (s)."""
+        return float(self._breakpoints[0])
+
+    @property
+    def end_time(self) -> float:
+        """Last breakpoint (s)."""
+        return float(self._breakpoints[-1])
+
+    @property
+    def duration(self) -> float:
+        """``end_time - start_time`` (s)."""
+        return float(self._breakpoints[-1] - self._breakpoints[0])
+
+    @property
+    def info(self) -> Mapping[str, Any]:
+        """Plan data attached by the planner (read-only mapping; may be empty)."""
+        return self._info
+
+    @property
+    def start_state(self) -> State:
+        """Position, velocity, acceleration and jerk at ``start_time``."""
+        return self._state_at(self.start_time)
+
+    @property
+    def end_state(self) -> State:
+        """Position, velocity, acceleration and jerk at ``end_time``."""
+        return self._state_at(self.end_time)
+
+    def _state_at(self, t: float) -> State:
+        return State(*(self.evaluate(t, order) for order in range(4)))
+
+    def __repr__(self) -> str:
+        return (
+            f"Trajectory(ndof={self.ndof}, duration={self.duration:.6g} s, "
+            f"pieces={self._coefficients.shape[1]}, degree={self.degree})"
+        )
+
+    # ------------------------------------------------------------- evaluation
+    def _coefficients_of(self, order: int) -> FloatArray:
+        cached = self._derivatives.get(order)
+        if cached is None:
+            cached = _poly.derivative(self._coefficients, order)
+            cached.setflags(write=False)
+            self._derivatives[order] = cached
+        return cached
+
+    def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
+        """Evaluate the ``order``-th time derivative.
+
+        Parameters
+        ----------
+        t : float or array_like, shape (n,)
+            Time(s) in seconds. Values outside ``[start_time, end_time]`` are clamped.
+        order : int
+            0 position, 1 velocity, 2 acceleration, 3 jerk, any higher order allowed.
+
+        Returns
+        -------
+        ndarray
+            Shape ``(ndof,)`` for a scalar ``t``, ``(n, ndof)`` for a 1-D ``t``.
+        """
+        if isinstance(order, bool) or not isinstance(order, int | np.integer) or order < 0:
+            raise InvalidInputError(f"order must be a whole number >= 0, got {order!r}")
+        times = np.asarray(t, dtype=np.float64)
+        if times.ndim > 1:
+            raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
+        if not np.isfinite(times).all():
+            raise InvalidInputError("t must be finite (no NaN or inf)")
+        c = self._coefficients_of(int(order))
+        bp = self._breakpoints
+        clamped = np.clip(times, bp[0], bp[-1])
+        if c.shape[1] == 1:
+            x = (clamped - bp[0])[..., np.newaxis]
+            return _poly.horner(c[:, 0, :], x)
+        piece = np.searchsorted(bp[1:-1], clamped, side="right")
+        x = (clamped - bp[piece])[..., np.newaxis]
+        return _poly.horner(c[:, piece, :], x)
+
+    def position(self, t: ArrayLike) -> FloatArray:
+        """Position at ``t`` (see :meth:`evaluate` for shapes)."""
+        return self.evaluate(t, 0)
+
+    def velocity(self, t: ArrayLike) -> FloatArray:
+        """Velocity at ``t`` (per second)."""
+        return self.evaluate(t, 1)
+
+    def acceleration(self, t: ArrayLike) -> FloatArray:
+        """Acceleration at ``t`` (per second squared)."""
+        return self.evaluate(t, 2)
+
+    def jerk(self, t: ArrayLike) -> FloatArray:
+        """Jerk at ``t`` (per second cubed)."""
+        return self.evaluate(t, 3)
+
+    def __call__(self, t: ArrayLike) -> FloatArray:
+        """Position at ``t``; the same as :meth:`position`."""
+        return self.evaluate(t, 0)
+
+    def sample(self, dt: float, *, unit: str = "rad") -> Samples:
+        """Sample position to jerk every ``dt`` seconds from start to end.
+
+        The times are ``start_time + i * dt`` (no accumulated rounding) and the end
+        time is always the last sample, exactly; when the duration is not a whole
+        multiple of ``dt`` the last interval is shorter.
+
+        Parameters
+        ----------
+        dt : float
+            Sampling period (s), > 0.
+        unit : str
+            Position unit written into file headers ("rad", "m", ...).
+        """
+        from trajkit.samples import Samples
+
+        step = positive_scalar("dt", dt, unit="s")
+        count = int(np.floor(self.duration / step * (1.0 + 1e-12)))
+        times = self.start_time + step * np.arange(count + 1)
+        if self.end_time - times[-1] <= 1e-9 * step:
+            times[-1] = self.end_time
+        else:
+            times = np.append(times, self.end_time)
+        return Samples(
+            t=times,
+            q=self.evaluate(times, 0),
+            qd=self.evaluate(times, 1),
+            qdd=self.evaluate(times, 2),
+            qddd=self.evaluate(times, 3),
+            unit=unit,
+        )
+
+    # ---------------------------------------------------------------- algebra
+    def derivative(self, order: int = 1) -> Trajectory:
+        """The ``order``-th time derivative as a new Trajectory on the same breakpoints."""
+        if isinstance(order, bool) or not isinstance(order, int | np.integer) or order < 0:
+            raise InvalidInputError(f"order must be a whole number >= 0, got {order!r}")
+        return Trajectory(self._breakpoints, self._coefficients_of(int(order)))
+
+    def time_scaled(self, factor: float) -> Trajectory:
+        """Slow down (``factor > 1``) or speed up (``< 1``) about ``start_time``.
+
+        The result ``r`` satisfies ``r(start + factor * s) == self(start + s)``: the
+        duration is multiplied by ``factor``, velocities divided by it, accelerations
+        by its square, jerks by its cube.
+        """
+        scale = positive_scalar("factor", factor)
+        bp = self._breakpoints
+        return Trajectory(
+            bp[0] + (bp - bp[0]) * scale,
+            _poly.scale_argument(self._coefficients, 1.0 / scale),
+            info=self._info,
+        )
+
+    def then(self, other: Trajectory, *, atol: float = 1e-9) -> Trajectory:
+        """Concatenate in time: ``other`` starts where this trajectory ends.
+
+        ``other`` is shifted so its ``start_time`` equals this ``end_time``.
+
+        Parameters
+        ----------
+        other : Trajectory
+            Must have the same ``ndof`` and start where this one ends.
+        atol : float
+            Allowed position mismatch at the junction (same unit as the positions).
+
+        Raises
+        ------
+        InvalidInputError
+            Different joint counts, or the positions do not meet.
+
+        Warns
+        -----
+        ContinuityWarning
+            When velocity or acceleration jump at the junction.
+        """
+        if not isinstance(other, Trajectory):
+            raise InvalidInputError(f"other must be a Trajectory, got {type(other).__name__}")
+        if other.ndof != self.ndof:
+            raise InvalidInputError(
+                f"other has {other.ndof} joints but this trajectory has {self.ndof}"
+            )
+        tol = positive_scalar("atol", atol)
+        end, start = self.end_state, other.start_state
+        for order, name in enumerate(_QUANTITY[:3]):
+            a, b = getattr(end, name), getattr(start, name)
+            jump = np.abs(b - a)
+            worst = int(np.argmax(jump))
+            if jump[worst] <= tol * (1.0 + abs(a[worst])):
+                continue
+            message = (
+                f"{name} jumps by {b[worst] - a[worst]:.6g} at joint {worst + 1} "
+                f"(from {a[worst]:.6g} to {b[worst]:.6g}) at t={self.end_time:.6g} s"
+            )
+            if order == 0:
+                raise InvalidInputError(f"cannot join trajectories: {message}")
+            warnings.warn(message, ContinuityWarning, stacklevel=2)
+        degree = max(self.degree, other.degree)
+        c = np.concatenate([_pad(self._coefficients, degree), _pad(other._coefficients, degree)], 1)
+        offset = self.end_time - other.start_time
+        bp = np.concatenate([self._breakpoints, other._breakpoints[1:] + offset])
+        return Trajectory(bp, c)
+
+    def absolute_coefficients(self) -> FloatArray:
+        """Coefficients in powers of absolute time ``t`` instead of ``t - breakpoints[i]``.
+
+        Same layout as :attr:`coefficients` (highest power first). This is the form
+        hand calculations use (``q(t) = a0 + a1 t + ...``); prefer the local form for
+        computation, it is better conditioned.
+        """
+        shift = self._breakpoints[:-1][:, np.newaxis]
+        return _poly.shift_origin(self._coefficients, shift)
+
+    # ---------------------------------------------------------------- queries
+    def extrema(self, order: int = 0) -> Extrema:
+        """Exact per-joint minimum and maximum of the ``order``-th derivative.
+
+        Found from the roots of the next derivative on every piece (not by sampling),
+        together with the piece ends.
+        """
+        c = self._coefficients_of(order)
+        k1, m, ndof = c.shape
+        lengths = np.repeat(np.diff(self._breakpoints), ndof)
+        low, x_low, high, x_high = _poly.extrema_on_intervals(c.reshape(k1, m * ndof), lengths)
+        low, x_low = low.reshape(m, ndof), x_low.reshape(m, ndof)
+        high, x_high = high.reshape(m, ndof), x_high.reshape(m, ndof)
+        joints = np.arange(ndof)
+        i_low, i_high = np.argmin(low, axis=0), np.argmax(high, axis=0)
+        starts = self._breakpoints[:-1]
+        return Extrema(
+            order=int(order),
+            minimum=low[i_low, joints],
+            time_of_minimum=starts[i_low] + x_low[i_low, joints],
+            maximum=high[i_high, joints],
+            time_of_maximum=starts[i_high] + x_high[i_high, joints],
+        )
+
+    def check(self, limits: Limits, *, rtol: float = 1e-9) -> Report:
+        """Verify ``limits`` exactly on the polynomial pieces; see :func:`trajkit.check`."""
+        from trajkit.limits import check
+
+        return check(self, limits, rtol=rtol)
+
+
+def _pad(c: FloatArray, degree: int) -> FloatArray:
+    """Prepend zero high-order rows so ``c`` is stored at ``degree``."""
+    missing = degree + 1 - c.shape[0]
+    if missing == 0:
+        return c
+    return np.concatenate([np.zeros((missing, *c.shape[1:])), c], axis=0)
