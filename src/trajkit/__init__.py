@@ -57,7 +57,7 @@ __all__ = [
 ]
 
 # Submodules that pull in heavy libraries (matplotlib) load on first use only.
-_LAZY = {"plot": "trajkit.viz.plot"}
+_LAZY = {"plot": "trajkit.plot"}
 
 
 def __getattr__(name: str) -> Any:

@@ -1,5 +1,5 @@
 """Reading and writing trajkit's files."""
 
-from trajkit.io.atomic import atomic_write
+from trajkit.io.atomic import StagedFiles, atomic_write, staged_files
 
-__all__ = ["atomic_write"]
+__all__ = ["StagedFiles", "atomic_write", "staged_files"]

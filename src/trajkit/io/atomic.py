@@ -5,11 +5,11 @@ from __future__ import annotations
 import contextlib
 import os
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO
 
-__all__ = ["atomic_write"]
+__all__ = ["StagedFiles", "atomic_write", "staged_files"]
 
 
 def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], None]) -> Path:
@@ -44,3 +44,60 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], None
             os.unlink(handle.name)
         raise
     return target
+
+
+class StagedFiles:
+    """Temporary paths for a group of output files that appear together or not at all.
+
+    Use through :func:`staged_files`.
+    """
+
+    def __init__(self) -> None:
+        self._pending: list[tuple[Path, Path]] = []
+
+    def path(self, target: str | os.PathLike[str]) -> Path:
+        """A temporary path beside ``target`` with the same suffix; write there.
+
+        Raises ``FileNotFoundError`` at once when the target's folder does not exist.
+        """
+        destination = Path(target)
+        folder = destination.parent if str(destination.parent) else Path(".")
+        if not folder.is_dir():
+            raise FileNotFoundError(f"folder {folder} does not exist (for {destination.name})")
+        descriptor, name = tempfile.mkstemp(
+            dir=folder, prefix=f".{destination.stem}.", suffix=f".tmp{destination.suffix}"
+        )
+        os.close(descriptor)
+        temporary = Path(name)
+        self._pending.append((temporary, destination))
+        return temporary
+
+    @property
+    def targets(self) -> list[Path]:
+        """Final paths, in the order they were staged."""
+        return [target for _, target in self._pending]
+
+
+@contextlib.contextmanager
+def staged_files() -> Iterator[StagedFiles]:
+    """Write several files so that either all of them appear or none does.
+
+    Examples
+    --------
+    >>> with staged_files() as stage:  # doctest: +SKIP
+    ...     samples.to_csv(stage.path("move.csv"))
+    ...     plot.save(figure, stage.path("move.png"))
+
+    If the block raises, every temporary file is removed and no target changes;
+    otherwise each temporary is renamed onto its target.
+    """
+    stage = StagedFiles()
+    try:
+        yield stage
+    except BaseException:
+        for temporary, _ in stage._pending:
+            with contextlib.suppress(OSError):
+                os.unlink(temporary)
+        raise
+    for temporary, target in stage._pending:
+        os.replace(temporary, target)

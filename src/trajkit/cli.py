@@ -1,0 +1,202 @@
+"""The ``trajkit`` command.
+
+Errors end the program with one line on stderr and exit status 2; output files are
+rendered in memory first and then written atomically, so a failed run leaves none.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import numpy as np
+
+import trajkit
+from trajkit.errors import TrajkitError
+from trajkit.io.atomic import staged_files
+from trajkit.limits import Limits
+from trajkit.profiles import cubic, quintic, septic
+from trajkit.trajectory import Trajectory
+
+__all__ = ["main"]
+
+EXIT_USAGE = 2
+
+
+class CommandError(Exception):
+    """A problem to report on one line with exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # type: ignore[override]
+        raise CommandError(message)
+
+
+def _numbers(text: str) -> list[float]:
+    """Parse ``1,2,3`` or a single number into floats (NaN and inf are refused later)."""
+    try:
+        return [float(part) for part in text.split(",") if part.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected numbers like 0.5 or 1,-2,3, got {text!r}"
+        ) from None
+
+
+def _vector(values: list[list[float]] | None) -> np.ndarray | None:
+    """Flatten ``--x 1 2`` / ``--x 1,2`` / ``--x 1 --x 2`` style inputs."""
+    if values is None:
+        return None
+    flat = [v for group in values for v in group]
+    return np.array(flat[0] if len(flat) == 1 else flat, dtype=float)
+
+
+def _add_vector(parser: argparse.ArgumentParser, flag: str, help_text: str) -> None:
+    parser.add_argument(flag, type=_numbers, nargs="+", metavar="X", help=help_text)
+
+
+def _build_parser() -> _Parser:
+    parser = _Parser(
+        prog="trajkit",
+        description="Plan, check, plot and export robot trajectories.",
+    )
+    parser.add_argument("--version", action="version", version=f"trajkit {trajkit.__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+
+    plan = commands.add_parser(
+        "plan",
+        help="plan one joint-space move and print its summary",
+        description="Plan a polynomial move for one or more joints. Lists are given as "
+        "'0 1.5' or '0,1.5'; a single number applies to every joint.",
+    )
+    plan.add_argument("profile", choices=["cubic", "quintic", "septic"], help="time law")
+    _add_vector(plan, "--q0", "start positions (rad, or deg with --deg)")
+    _add_vector(plan, "--qf", "end positions")
+    plan.add_argument(
+        "--duration", type=float, help="move time in s (default: shortest under limits)"
+    )
+    _add_vector(plan, "--v0", "start velocities (default 0)")
+    _add_vector(plan, "--vf", "end velocities (default 0)")
+    _add_vector(plan, "--a0", "start accelerations, quintic/septic (default 0)")
+    _add_vector(plan, "--af", "end accelerations, quintic/septic (default 0)")
+    _add_vector(plan, "--vmax", "velocity limits (rad/s, or deg/s with --deg)")
+    _add_vector(plan, "--amax", "acceleration limits")
+    _add_vector(plan, "--jmax", "jerk limits")
+    plan.add_argument("--deg", action="store_true", help="angles and limits in degrees")
+    plan.add_argument(
+        "--dt", type=float, default=0.002, help="sampling period for --csv (s, default 0.002)"
+    )
+    plan.add_argument("--csv", type=Path, help="write samples (SI units) to this CSV file")
+    plan.add_argument("--plot", type=Path, help="write a profile plot (.png, .svg or .pdf)")
+
+    demo = commands.add_parser("demo", help="run the worked examples and write their outputs")
+    demo.add_argument(
+        "--out",
+        type=Path,
+        default=Path("trajkit-demo"),
+        help="output folder (default ./trajkit-demo)",
+    )
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    parser = _build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return EXIT_USAGE
+        handler: Callable[[argparse.Namespace], int] = {"plan": _plan, "demo": _demo}[args.command]
+        return handler(args)
+    except (CommandError, TrajkitError, OSError) as exc:
+        message = str(exc).replace("\n", " ")
+        print(f"trajkit: error: {message}", file=sys.stderr)
+        return EXIT_USAGE
+
+
+def _plan(args: argparse.Namespace) -> int:
+    if args.q0 is None or args.qf is None:
+        raise CommandError("plan needs --q0 and --qf")
+    to_si = np.pi / 180.0 if args.deg else 1.0
+    unit = "deg" if args.deg else "rad"
+
+    def si(values: list[list[float]] | None) -> np.ndarray | None:
+        vector = _vector(values)
+        return None if vector is None else vector * to_si
+
+    kwargs: dict[str, object] = {
+        "vmax": si(args.vmax),
+        "amax": si(args.amax),
+        "jmax": si(args.jmax),
+        "v0": si(args.v0) if args.v0 else 0.0,
+        "vf": si(args.vf) if args.vf else 0.0,
+    }
+    if args.profile == "cubic":
+        if args.a0 or args.af:
+            raise CommandError("--a0/--af need a quintic or septic profile")
+        planner = cubic
+    else:
+        planner = quintic if args.profile == "quintic" else septic
+        kwargs["a0"] = si(args.a0) if args.a0 else 0.0
+        kwargs["af"] = si(args.af) if args.af else 0.0
+    trajectory = planner(si(args.q0), si(args.qf), args.duration, **kwargs)
+    limits = Limits(velocity=kwargs["vmax"], acceleration=kwargs["amax"], jerk=kwargs["jmax"])
+    if args.plot is not None and args.plot.suffix.lower() not in {".png", ".svg", ".pdf"}:
+        raise CommandError(f"--plot must end in .png, .svg or .pdf, got {args.plot.name!r}")
+    summary = _summary(trajectory, limits, args.profile, unit, to_si)
+    with staged_files() as stage:
+        if args.csv is not None:
+            trajectory.sample(args.dt).to_csv(stage.path(args.csv))
+        if args.plot is not None:
+            from trajkit.plot import profiles, save
+
+            figure = profiles(trajectory, limits, degrees=args.deg, title=f"{args.profile} move")
+            save(figure, stage.path(args.plot))
+    print(summary)
+    for path in stage.targets:
+        print(f"wrote {path}")
+    return 0
+
+
+def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to_si: float) -> str:
+    info = trajectory.info
+    lines = [f"{profile} move: {trajectory.ndof} joint(s), duration {trajectory.duration:.9g} s"]
+    if "limiting_joint" in info:
+        lines[0] += f" (set by {info['limiting']} of joint {info['limiting_joint'] + 1})"
+    start, end = trajectory.start_state, trajectory.end_state
+    peaks = [trajectory.extrema(order).peak / to_si for order in (1, 2)]
+    own = info.get("minimum_durations")
+    header = f"{'joint':>5} {'q0':>12} {'qf':>12} {'peak |v|':>12} {'peak |a|':>12}" + (
+        f" {'own min [s]':>12}" if own else ""
+    )
+    lines += [
+        f"units: positions {unit}, velocities {unit}/s, accelerations {unit}/s^2",
+        header,
+    ]
+    for j in range(trajectory.ndof):
+        row = (
+            f"{j + 1:>5} {start.position[j] / to_si:>12.6g} {end.position[j] / to_si:>12.6g}"
+            f" {peaks[0][j]:>12.6g} {peaks[1][j]:>12.6g}"
+        )
+        if own:
+            row += f" {own[j]:>12.6g}"
+        lines.append(row)
+    if any(getattr(limits, q) is not None for q in ("velocity", "acceleration", "jerk")):
+        report = trajectory.check(limits)
+        lines.append(f"limit check (SI units): {'OK' if report.ok else 'FAILED'}")
+        lines += [f"  {v}" for v in report.violations]
+    return "\n".join(lines)
+
+
+def _demo(args: argparse.Namespace) -> int:
+    from trajkit.demo import run
+
+    written = run(args.out, log=print)
+    print(f"trajkit demo: wrote {len(written)} files to {args.out}")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
