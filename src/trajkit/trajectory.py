@@ -185,11 +185,27 @@ class Trajectory:
 
     # ------------------------------------------------------------- evaluation
     def _coefficients_of(self, order: int) -> FloatArray:
+        """Coefficients of the ``order``-th derivative, ``(k' + 1, m, ndof)``, cached."""
         cached = self._derivatives.get(order)
         if cached is None:
             cached = _poly.derivative(self._coefficients, order)
             cached.setflags(write=False)
             self._derivatives[order] = cached
+        return cached
+
+    def _joint_major(self, order: int) -> FloatArray:
+        """The same, laid out ``(k' + 1, ndof, m)`` for evaluation, cached.
+
+        With time as the last (longest) axis, numpy's inner loops run over the
+        samples instead of over the few joints; that makes evaluation several
+        times faster than the PPoly layout.
+        """
+        key = -1 - order  # negative keys: joint-major copies
+        cached = self._derivatives.get(key)
+        if cached is None:
+            cached = np.ascontiguousarray(self._coefficients_of(order).transpose(0, 2, 1))
+            cached.setflags(write=False)
+            self._derivatives[key] = cached
         return cached
 
     def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
@@ -214,15 +230,25 @@ class Trajectory:
             raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
         if not np.isfinite(times).all():
             raise InvalidInputError("t must be finite (no NaN or inf)")
-        c = self._coefficients_of(int(order))
+        c = self._joint_major(int(order))
         bp = self._breakpoints
-        clamped = np.clip(times, bp[0], bp[-1])
-        if c.shape[1] == 1:
-            x = (clamped - bp[0])[..., np.newaxis]
-            return _poly.horner(c[:, 0, :], x)
-        piece = np.searchsorted(bp[1:-1], clamped, side="right")
-        x = (clamped - bp[piece])[..., np.newaxis]
-        return _poly.horner(c[:, piece, :], x)
+        clamped = np.clip(np.atleast_1d(times), bp[0], bp[-1])
+        if c.shape[2] == 1:
+            x = clamped - bp[0]
+            result = np.empty((c.shape[1], x.size))
+            result[...] = c[0]
+            for row in c[1:]:
+                result *= x
+                result += row
+        else:
+            piece = np.searchsorted(bp[1:-1], clamped, side="right")
+            x = clamped - bp[piece]
+            result = np.take(c[0], piece, axis=1)
+            for row in c[1:]:
+                result *= x
+                result += np.take(row, piece, axis=1)
+        # Joint-major result transposed: a (n, ndof) view, no copy.
+        return result[:, 0] if times.ndim == 0 else result.T
 
     def position(self, t: ArrayLike) -> FloatArray:
         """Position at ``t`` (see :meth:`evaluate` for shapes)."""
