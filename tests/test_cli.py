@@ -1,0 +1,161 @@
+"""The trajkit command: plan summaries, files, errors (one line, exit 2, no partial files)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import trajkit as tk
+from trajkit.cli import main
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    status = main(list(argv))
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def test_plan_cubic_degrees_prints_exact_minimum_and_writes_files(tmp_path, capsys):
+    csv, png = tmp_path / "move.csv", tmp_path / "move.png"
+    status, out, err = run(
+        capsys,
+        "plan", "cubic", "--q0", "0", "0", "--qf", "67", "-45", "--vmax", "9,11", "--deg",
+        "--csv", str(csv), "--plot", str(png),
+    )  # fmt: skip
+    assert status == 0, err
+    assert err == ""
+    assert "duration 11.1666667 s (set by vmax of joint 1)" in out
+    assert "limit check (SI units): OK" in out
+    samples = tk.Samples.from_csv(csv)
+    assert samples.t[-1] == pytest.approx(67 * 1.5 / 9, rel=1e-12)
+    np.testing.assert_allclose(samples.q[-1], np.radians([67, -45]), rtol=1e-12)
+    assert np.allclose(np.diff(samples.t)[:-1], 0.002)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["move.csv", "move.png"]
+
+
+@pytest.mark.parametrize("profile", ["cubic", "quintic", "septic"])
+def test_plan_each_profile_with_duration(profile, capsys):
+    status, out, _ = run(capsys, "plan", profile, "--q0", "0", "--qf", "1.2", "--duration", "2")
+    assert status == 0
+    assert f"{profile} move: 1 joint(s), duration 2 s" in out
+
+
+def test_plan_quintic_boundary_accelerations(capsys, tmp_path):
+    csv = tmp_path / "q.csv"
+    status, _, err = run(
+        capsys, "plan", "quintic", "--q0", "0", "--qf", "1", "--duration", "2",
+        "--a0", "0.5", "--af", "-0.25", "--csv", str(csv), "--dt", "0.5",
+    )  # fmt: skip
+    assert status == 0, err
+    samples = tk.Samples.from_csv(csv)
+    np.testing.assert_array_equal(samples.t, [0, 0.5, 1.0, 1.5, 2.0])
+    assert samples.qdd[0, 0] == pytest.approx(0.5, abs=1e-12)
+    assert samples.qdd[-1, 0] == pytest.approx(-0.25, abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--vmax", "1"],
+         "duration 1 s is below the minimum 1.5 s set by vmax=1 rad/s (joint 1)"),
+        (["plan", "cubic", "--q0", "0", "--qf", "nan", "--duration", "1"], "qf must be finite"),
+        (["plan", "cubic", "--q0", "0", "--qf", "1"], "give duration, or at least one of vmax"),
+        (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "-1"], "duration must be > 0"),
+        (["plan", "cubic", "--q0", "0", "--qf", "1", "--vmax", "-2"], "vmax must be > 0"),
+        (["plan", "cubic", "--q0", "0", "0", "--qf", "1", "1", "1", "--duration", "1"],
+         "qf has 3 joints but q0 has 2"),
+        (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--a0", "1"],
+         "--a0/--af need a quintic or septic profile"),
+        (["plan", "cubic", "--qf", "1", "--duration", "1"], "plan needs --q0 and --qf"),
+        (["plan", "cubic", "--q0", "x", "--qf", "1"], "expected numbers"),
+        (["plan", "trapezium", "--q0", "0", "--qf", "1"], "invalid choice"),
+        (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--dt", "0"],
+         "dt must be > 0"),
+    ],
+)  # fmt: skip
+def test_errors_are_one_line_with_status_2(argv, message, capsys, tmp_path):
+    csv = tmp_path / "out.csv"
+    status, out, err = (
+        run(capsys, *argv, "--csv", str(csv))
+        if argv[0] == "plan" and argv[1] != "trapezium"
+        else run(capsys, *argv)
+    )
+    assert status == 2
+    assert err.count("\n") == 1, err
+    assert err.startswith("trajkit: error: ")
+    assert message in err
+    assert "Traceback" not in err
+    assert out == ""
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_no_partial_files_when_the_plot_cannot_be_written(tmp_path, capsys):
+    csv = tmp_path / "out.csv"
+    status, _, err = run(
+        capsys, "plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1",
+        "--csv", str(csv), "--plot", str(tmp_path / "missing" / "p.png"),
+    )  # fmt: skip
+    assert status == 2
+    assert "does not exist" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_plot_suffix(tmp_path, capsys):
+    status, _, err = run(
+        capsys, "plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1",
+        "--plot", str(tmp_path / "p.txt"),
+    )  # fmt: skip
+    assert status == 2
+    assert "--plot must end in .png, .svg or .pdf" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_no_command_prints_help(capsys):
+    status, out, _ = run(capsys)
+    assert status == 2
+    assert "plan" in out and "demo" in out
+
+
+def test_console_script_version_and_error_without_traceback(tmp_path):
+    version = subprocess.run(
+        [sys.executable, "-m", "trajkit.cli", "--version"], capture_output=True, text=True
+    )
+    assert version.returncode == 0
+    assert version.stdout.strip() == f"trajkit {tk.__version__}"
+    bad = subprocess.run(
+        [sys.executable, "-m", "trajkit.cli", "plan", "cubic", "--q0", "0", "--qf", "inf"],
+        capture_output=True,
+        text=True,
+    )
+    assert bad.returncode == 2
+    assert bad.stderr.strip().count("\n") == 0
+    assert "qf must be finite" in bad.stderr
+
+
+def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
+    out_dir = tmp_path / "demo"
+    status, out, err = run(capsys, "demo", "--out", str(out_dir))
+    assert status == 0, err
+    names = sorted(p.name for p in out_dir.iterdir())
+    assert names == sorted(
+        [
+            "seed000_cubic.csv", "seed000_cubic.png",
+            "seed003_line.csv", "seed003_line.png",
+            "seed004_example1.csv", "seed004_example1.png",
+            "seed004_example2.csv", "seed004_example2.png",
+            "summary.txt",
+        ]
+    )  # fmt: skip
+    assert "piece 1: [0, 0, 1.3, -0.8]" in out
+    assert "piece 2: [0.55, -0.375, 0.4, -0.075]" in out
+    assert "exact common minimum duration 11.1666666667 s" in out
+    assert "11 s breaks the velocity limit: joint 1" in out
+    summary = (out_dir / "summary.txt").read_text()
+    assert "piece 2: [0.55, -0.375, 0.4, -0.075]" in summary
+    assert f"wrote {len(names)} files" in out
+    seed000 = tk.Samples.from_csv(out_dir / "seed000_cubic.csv")
+    assert seed000.t[-1] == pytest.approx(11.1666666666666667, rel=1e-12)

@@ -1,0 +1,100 @@
+"""Plots: panels, labels with units, limits drawn, files saved; lazy matplotlib import."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import trajkit as tk
+
+
+@pytest.fixture
+def move() -> tk.Trajectory:
+    return tk.cubic(np.radians([0, 0]), np.radians([67, -45]), vmax=np.radians([9, 11]))
+
+
+def test_import_trajkit_does_not_import_matplotlib():
+    code = "import sys, trajkit; print('matplotlib' in sys.modules)"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "False"
+
+
+def test_profiles_panels_labels_and_limits(move):
+    limits = tk.Limits(velocity=np.radians([9, 11]), acceleration=0.1)
+    figure = tk.plot.profiles(move, limits, orders=(0, 1, 2, 3), title="seed 000")
+    axes = figure.get_axes()
+    assert [ax.get_ylabel() for ax in axes] == [
+        "position [rad]",
+        "velocity [rad/s]",
+        "acceleration [rad/s²]",
+        "jerk [rad/s³]",
+    ]
+    assert axes[-1].get_xlabel() == "time [s]"
+    assert figure._suptitle.get_text() == "seed 000"
+    # Velocity panel: two joint curves and four dashed per-joint bounds (joint colours).
+    velocity = axes[1]
+    solid = [line for line in velocity.get_lines() if line.get_linestyle() == "-"]
+    dashed = [line for line in velocity.get_lines() if line.get_linestyle() == "--"]
+    assert len(solid) == 2 and len(dashed) == 4
+    assert sorted(line.get_ydata()[0] for line in dashed) == pytest.approx(
+        sorted(np.radians([-11, -9, 9, 11]))
+    )
+    # Shared acceleration bound: one black line per side.
+    acceleration_dashed = [ln for ln in axes[2].get_lines() if ln.get_linestyle() == "--"]
+    assert len(acceleration_dashed) == 2
+    # The curve reaches the exact peak velocity (breakpoints and dense samples drawn).
+    assert np.max(solid[0].get_ydata()) == pytest.approx(np.radians(9), rel=1e-6)
+
+
+def test_profiles_degrees_and_samples(move):
+    samples = move.sample(0.5)
+    figure = tk.plot.profiles(samples, degrees=True, names=["shoulder", "elbow"])
+    axes = figure.get_axes()
+    assert axes[0].get_ylabel() == "position [deg]"
+    lines = axes[0].get_lines()
+    assert lines[0].get_ydata()[-1] == pytest.approx(67.0, rel=1e-12)
+    assert [t.get_text() for t in axes[0].get_legend().get_texts()] == ["shoulder", "elbow"]
+
+
+@pytest.mark.parametrize("suffix", [".png", ".svg", ".pdf"])
+def test_save_formats(move, tmp_path, suffix):
+    path = tk.plot.save(tk.plot.profiles(move), tmp_path / f"p{suffix}")
+    head = path.read_bytes()[:5]
+    assert head == {".png": b"\x89PNG\r", ".svg": b"<?xml", ".pdf": b"%PDF-"}[suffix]
+    assert [p.name for p in tmp_path.iterdir()] == [f"p{suffix}"]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"orders": (0, 4)}, "orders must be distinct values among 0, 1, 2, 3"),
+        ({"orders": ()}, "orders must be distinct"),
+        ({"names": ["a"]}, "names gives 1 labels for 2 joints"),
+        ({"limits": {"velocity": 1}}, "limits must be a trajkit.Limits"),
+        ({"unit": "m", "degrees": True}, "degrees=True needs angles in rad"),
+        ({"width": 0}, "width must be > 0"),
+    ],
+)
+def test_profiles_bad_input(move, kwargs, message):
+    with pytest.raises(tk.InvalidInputError, match=message):
+        tk.plot.profiles(move, **kwargs)
+
+
+def test_profiles_rejects_other_objects():
+    with pytest.raises(tk.InvalidInputError, match="data must be a trajkit Trajectory or Samples"):
+        tk.plot.profiles(np.zeros(3))
+
+
+def test_save_bad_suffix(move, tmp_path):
+    with pytest.raises(tk.InvalidInputError, match=r"\.png, \.svg or \.pdf"):
+        tk.plot.save(tk.plot.profiles(move), tmp_path / "p.bmp")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_limit_with_wrong_joint_count(move):
+    with pytest.raises(tk.InvalidInputError, match="velocity"):
+        tk.plot.profiles(move, tk.Limits(velocity=[1.0, 2.0, 3.0]))
