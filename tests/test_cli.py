@@ -79,11 +79,7 @@ def test_plan_quintic_boundary_accelerations(capsys, tmp_path):
 )  # fmt: skip
 def test_errors_are_one_line_with_status_2(argv, message, capsys, tmp_path):
     csv = tmp_path / "out.csv"
-    status, out, err = (
-        run(capsys, *argv, "--csv", str(csv))
-        if argv[0] == "plan" and argv[1] != "trapezium"
-        else run(capsys, *argv)
-    )
+    status, out, err = run(capsys, *argv, "--csv", str(csv))
     assert status == 2
     assert err.count("\n") == 1, err
     assert err.startswith("trajkit: error: ")
