@@ -14,7 +14,7 @@ from trajkit.errors import InvalidInputError
 if TYPE_CHECKING:
     from trajkit.trajectory import Trajectory
 
-__all__ = ["Bounds", "Limits", "Report", "Violation", "check"]
+__all__ = ["Bounds", "Limits", "Report", "Violation", "check", "parse_bounds"]
 
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 UNIT_SUFFIX = ("", "/s", "/s^2", "/s^3")
@@ -41,8 +41,14 @@ class Bounds:
         return out[0], out[1]
 
 
-def _bounds(name: str, spec: LimitSpec) -> Bounds | None:
-    """Read one limit: a magnitude (symmetric), or a tuple ``(lower, upper)``."""
+def parse_bounds(name: str, spec: LimitSpec, *, quantity: str | None = None) -> Bounds | None:
+    """Read one limit: a magnitude (symmetric), or a tuple ``(lower, upper)``.
+
+    ``name`` is the argument name used in messages (``"vmax"``, ``"velocity"``);
+    ``quantity`` (default ``name``) says whether it is a position range, which must
+    be a tuple, or a derivative bound, whose range must contain 0.
+    """
+    quantity = quantity or name
     if spec is None:
         return None
     if isinstance(spec, tuple):
@@ -67,16 +73,16 @@ def _bounds(name: str, spec: LimitSpec) -> Bounds | None:
             raise InvalidInputError(
                 f"{name} lower bound must be below the upper bound, got ({lower}, {upper})"
             )
-        if name != "position" and (np.any(lower > 0) or np.any(upper < 0)):
+        if quantity != "position" and (np.any(lower > 0) or np.any(upper < 0)):
             raise InvalidInputError(
                 f"{name}=({lower}, {upper}): a tuple is read as (lower, upper) and must "
                 "contain 0 (a robot at rest must be within its limits); pass a list or "
                 "array for per-joint symmetric limits"
             )
         return Bounds(lower, upper)
-    if name == "position":
+    if quantity == "position":
         raise InvalidInputError(
-            "position limits must be a tuple (lower, upper) of numbers or per-joint arrays"
+            f"{name} limits must be a tuple (lower, upper) of numbers or per-joint arrays"
         )
     magnitude = finite_array(name, spec)
     if magnitude.ndim > 1:
@@ -120,7 +126,7 @@ class Limits:
         jerk: LimitSpec = None,
     ) -> None:
         for name, spec in zip(QUANTITIES, (position, velocity, acceleration, jerk), strict=True):
-            object.__setattr__(self, name, _bounds(name, spec))
+            object.__setattr__(self, name, parse_bounds(name, spec))
 
     def __repr__(self) -> str:
         parts = []

@@ -1,0 +1,613 @@
+"""Trapezoidal / triangular (LSPB) velocity profiles under velocity and acceleration limits.
+
+The vectorized cores here serve both :func:`trapezoidal` (one N-DoF move) and
+:mod:`trajkit.batch` (many moves at once): arrays carry any leading axes and the
+joints on the last axis.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import (
+    FloatArray,
+    count_dof,
+    finite_array,
+    joint_vector,
+    positive_scalar,
+)
+from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.limits import LimitSpec, parse_bounds
+from trajkit.profiles import _trapezoid_math as math
+from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
+from trajkit.trajectory import Trajectory
+
+__all__ = ["Sync", "TrapezoidSolution", "solve_trapezoid", "trapezoidal"]
+
+Sync = Literal["time", "phase"] | None
+SYNC_MODES = ("time", "phase", None)
+
+
+@dataclass
+class TrapezoidSolution:
+    """Arrays of a solved (batch of) trapezoid problem(s); joints on the last axis.
+
+    ``times`` and ``accelerations`` have a trailing phase axis of 3 (rise, coast,
+    fall); ``duration`` is the common duration, ``own`` each joint's minimum alone,
+    ``limiting`` the joint whose minimum sets ``duration`` (-1 under phase sync,
+    where all joints share one time law).
+    """
+
+    times: FloatArray
+    accelerations: FloatArray
+    peak_velocity: FloatArray
+    duration: FloatArray
+    own: FloatArray
+    limiting: FloatArray
+
+
+def _stack(phases: math.Phases) -> tuple[FloatArray, FloatArray]:
+    times = np.stack([phases.t1, phases.t2, phases.t3], axis=-1)
+    accelerations = np.stack([phases.a1, np.zeros_like(phases.a1), phases.a3], axis=-1)
+    return times, accelerations
+
+
+def _exact_duration(T: FloatArray, args: tuple[FloatArray, ...]) -> math.Phases:
+    """Per-joint phases taking exactly ``T``: accelerations at the limits where that
+    works (the gentlest, lowest peak speed), gentler accelerations elsewhere.
+    """
+    phases = math.fixed_duration(T, *args)
+    if phases.valid.all():
+        return phases
+    general = math.fixed_duration_general(T, *args)
+    take = ~phases.valid & general.valid
+    return math.Phases(
+        *(np.where(take, getattr(general, n), getattr(phases, n)) for n in _PHASE_FIELDS)
+    )
+
+
+_PHASE_FIELDS = ("t1", "t2", "t3", "a1", "a3", "vp", "valid")
+
+
+def _common_duration(T: FloatArray, args: tuple[FloatArray, ...]) -> tuple[FloatArray, math.Phases]:
+    """Smallest duration >= ``T`` that every joint can take exactly, and its phases.
+
+    ``T`` has the leading shape; ``args`` are ``(D, v0, vf, vpos, vneg, apos, aneg)``
+    with joints last. At rest at both ends every ``T`` above the minima works. With
+    moving boundaries a joint may be unable to take some durations (a blocked
+    interval); the next duration it can take is found among the durations where
+    the families of profiles begin (:func:`math.duration_candidates`), else by a
+    logarithmic scan refined by bisection.
+    """
+    phases = _exact_duration(T[..., np.newaxis], args)
+    blocked = ~phases.valid.all(axis=-1)
+    if not blocked.any():
+        return T, phases
+    shape = phases.t1.shape  # leading + joints
+    flat_T = np.array(np.broadcast_to(T, shape[:-1]), dtype=float).reshape(-1)
+    flat_blocked = blocked.reshape(-1)
+    sub = tuple(np.broadcast_to(a, shape).reshape(-1, shape[-1])[flat_blocked] for a in args)
+    start = flat_T[flat_blocked]
+    candidates = math.duration_candidates(*sub).reshape(start.size, -1)
+    # Also a scan, for blocked intervals that end where gentler accelerations begin.
+    scan = start[:, np.newaxis] * (1.0 + np.geomspace(1e-9, 1e3, 240))
+    candidates = np.concatenate([candidates, scan], axis=-1)
+    candidates = np.where(candidates >= start[:, np.newaxis], candidates, np.inf)
+    candidates = np.sort(candidates, axis=-1)
+    feasible = lambda durations: _exact_duration(  # noqa: E731
+        durations[..., np.newaxis], tuple(a[:, np.newaxis, :] for a in sub)
+    ).valid.all(axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        works = feasible(candidates) & np.isfinite(candidates)
+    if not works.any(axis=-1).all():
+        raise InfeasibleError(
+            "no common duration lets every joint meet its boundary velocities exactly; "
+            "try sync=None or different boundary velocities"
+        )
+    first = np.argmax(works, axis=-1)
+    rows = np.arange(first.size)
+    high = candidates[rows, first]
+    low = np.where(first > 0, candidates[rows, np.maximum(first - 1, 0)], start)
+    low = np.where(np.isfinite(low), low, start)
+    # Bisection between the last blocked and the first feasible duration.
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        ok = feasible(middle[:, np.newaxis])[:, 0]
+        high = np.where(ok, middle, high)
+        low = np.where(ok, low, middle)
+        if np.all(high - low <= 1e-13 * high):
+            break
+    flat_T[flat_blocked] = high
+    T = flat_T.reshape(shape[:-1])
+    return T, _exact_duration(T[..., np.newaxis], args)
+
+
+def solve_trapezoid(
+    distance: FloatArray,
+    v0: FloatArray,
+    vf: FloatArray,
+    vpos: FloatArray,
+    vneg: FloatArray,
+    apos: FloatArray,
+    aneg: FloatArray,
+    sync: Sync,
+    duration: FloatArray | None = None,
+) -> TrapezoidSolution:
+    """Vectorized trapezoid planning; every argument ``(..., ndof)`` except ``duration``.
+
+    ``duration`` (shape ``(...)``) asks for that exact common duration instead of
+    the shortest; it must be at least the shortest (the caller checks).
+    """
+    args = (distance, v0, vf, vpos, vneg, apos, aneg)
+    if sync == "phase":
+        return _solve_phase_synchronized(*args, duration=duration)
+    fastest = math.minimum_time(*args)
+    own = fastest.duration
+    limiting = np.argmax(own, axis=-1)
+    if sync is None and duration is None:
+        times, accelerations = _stack(fastest)
+        return TrapezoidSolution(times, accelerations, fastest.vp, own.max(-1), own, limiting)
+    T = own.max(axis=-1) if duration is None else duration
+    T, phases = _common_duration(T, args)
+    times, accelerations = _stack(phases)
+    return TrapezoidSolution(times, accelerations, phases.vp, T, own, limiting)
+
+
+def _phase_law(
+    distance: FloatArray,
+    v0: FloatArray,
+    vf: FloatArray,
+    vpos: FloatArray,
+    vneg: FloatArray,
+    apos: FloatArray,
+    aneg: FloatArray,
+) -> tuple[FloatArray, ...]:
+    """Problem of the shared time law ``s: 0 -> 1`` of a phase-synchronized move.
+
+    Every joint follows ``q0 + D s(t)``, so ``s`` must respect each joint's limits
+    divided by its distance (for a negative distance the lower and upper bounds
+    swap): the tightest of them are the law's limits. Boundary velocities must be
+    ``v0 = D s'(0)`` and ``vf = D s'(T)``. Returns the law's ``(D, v0, vf, vpos,
+    vneg, apos, aneg)`` with the joint axis dropped (distance 0 when nothing moves).
+    """
+    moving = distance != 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_v0 = np.where(moving, v0 / distance, -np.inf).max(axis=-1)
+        s_vf = np.where(moving, vf / distance, -np.inf).max(axis=-1)
+    s_v0 = np.where(np.isfinite(s_v0), s_v0, 0.0)
+    s_vf = np.where(np.isfinite(s_vf), s_vf, 0.0)
+    scale = np.maximum(np.abs(v0), np.abs(vf)).max(axis=-1, initial=0.0) + 1e-300
+    off_line = np.maximum(
+        np.abs(s_v0[..., np.newaxis] * distance - v0), np.abs(s_vf[..., np.newaxis] * distance - vf)
+    ).max(axis=-1)
+    if np.any(off_line > 1e-9 * scale):
+        raise InvalidInputError(
+            "sync='phase' needs boundary velocities parallel to the move (v0 and vf "
+            "proportional to qf - q0, joint by joint); use sync='time' otherwise"
+        )
+    magnitude = np.where(moving, np.abs(distance), np.inf)
+    positive = distance > 0
+    limits = []
+    for up, down in ((vpos, vneg), (apos, aneg)):
+        limits.append((np.where(positive, up, down) / magnitude).min(axis=-1))
+        limits.append((np.where(positive, down, up) / magnitude).min(axis=-1))
+    still = ~moving.any(axis=-1)
+    # Nothing moves: any positive limits will do for the (empty) law.
+    limits = [np.where(still, 1.0, limit) for limit in limits]
+    s_vpos, s_vneg, s_apos, s_aneg = limits
+    return (np.where(still, 0.0, 1.0), s_v0, s_vf, s_vpos, s_vneg, s_apos, s_aneg)
+
+
+def _scale_law(
+    law_times: FloatArray, law_acc: FloatArray, law_vp: FloatArray, distance: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Joint phases from the shared law's phases (law arrays have no joint axis)."""
+    times = np.broadcast_to(law_times[..., np.newaxis, :], (*distance.shape, 3)).copy()
+    accelerations = law_acc[..., np.newaxis, :] * distance[..., np.newaxis]
+    return times, accelerations, law_vp[..., np.newaxis] * distance
+
+
+def _solve_phase_synchronized(*args: FloatArray, duration: FloatArray | None) -> TrapezoidSolution:
+    """All joints follow one time law: see :func:`_phase_law`."""
+    distance = args[0]
+    law_args = _phase_law(*args)
+    own = math.minimum_time(*args).duration
+    if duration is None:
+        law = math.minimum_time(*law_args)
+        T = law.duration
+    else:
+        T, law = _common_duration(duration, tuple(a[..., np.newaxis] for a in law_args))
+        law = math.Phases(
+            *(getattr(law, n)[..., 0] for n in ("t1", "t2", "t3", "a1", "a3", "vp", "valid"))
+        )
+    law_times, law_acc = _stack(law)
+    times, accelerations, peak = _scale_law(law_times, law_acc, law.vp, distance)
+    return TrapezoidSolution(times, accelerations, peak, T, own, np.full(T.shape, -1))
+
+
+_OFFSETS = np.array([0, 1, -1, 2, -2])  # integer steps tried around a continuous phase time
+_MAX_EXTRA_PERIODS = 16  # how far past the continuous optimum a quantized duration is sought
+
+
+def _integer_phases(
+    steps: FloatArray, dt: float, args: tuple[FloatArray, ...]
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Phases whose durations are whole multiples of ``dt`` and sum to ``steps * dt``.
+
+    Around the continuous profile of duration ``steps * dt`` every nearby pair of
+    rise and fall step counts is tried; the coast takes the rest. For given step
+    counts the peak velocity follows from the distance (it is linear in ``vp``),
+    and the accelerations from the velocity changes. Returns ``valid`` (leading
+    shape + joints), ``times``, ``accelerations`` (... , 3) and ``vp``.
+    """
+    D, v0, vf, vpos, vneg, apos, aneg = args
+    total = steps * dt
+    smooth = math.fixed_duration(np.broadcast_to(total, D.shape), *args)
+    n1 = np.floor(smooth.t1 / dt + 1e-9)[..., np.newaxis, np.newaxis] + _OFFSETS[:, np.newaxis]
+    n3 = np.floor(smooth.t3 / dt + 1e-9)[..., np.newaxis, np.newaxis] + _OFFSETS[np.newaxis, :]
+    n1, n3 = np.broadcast_arrays(n1, n3)
+    shape = (*D.shape, _OFFSETS.size**2)
+    n1, n3 = n1.reshape(shape), n3.reshape(shape)
+    N = np.broadcast_to(steps, D.shape)[..., np.newaxis]
+    n2 = N - n1 - n3
+    e = lambda x: x[..., np.newaxis]  # noqa: E731
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vp = (e(D) / dt - e(v0) * n1 / 2 - e(vf) * n3 / 2) / (n1 / 2 + n2 + n3 / 2)
+        # A phase of zero steps cannot change the velocity.
+        vp = np.where(n1 == 0, e(v0), np.where(n3 == 0, e(vf), vp))
+        a1 = np.where(n1 > 0, (vp - e(v0)) / (n1 * dt), 0.0)
+        a3 = np.where(n3 > 0, (e(vf) - vp) / (n3 * dt), 0.0)
+    covered = dt * ((e(v0) + vp) / 2 * n1 + vp * n2 + (vp + e(vf)) / 2 * n3)
+    slack = 1e-12
+    scale_d = np.abs(e(D)) + np.abs(covered) + 1e-300
+    valid = (
+        (n1 >= 0) & (n3 >= 0) & (n2 >= 0)
+        & np.isfinite(vp)
+        & (np.abs(covered - e(D)) <= 1e-9 * scale_d)
+        & (vp <= e(vpos) * (1 + slack)) & (vp >= -e(vneg) * (1 + slack))
+        & (a1 <= e(apos) * (1 + slack)) & (a1 >= -e(aneg) * (1 + slack))
+        & (a3 <= e(apos) * (1 + slack)) & (a3 >= -e(aneg) * (1 + slack))
+        & e(smooth.valid)
+    )  # fmt: skip
+    choice = np.argmin(np.where(valid, np.abs(vp), np.inf), axis=-1)[..., np.newaxis]
+    pick = lambda x: np.take_along_axis(x, choice, axis=-1)[..., 0]  # noqa: E731
+    times = np.stack([pick(n1) * dt, pick(n2) * dt, pick(n3) * dt], axis=-1)
+    accelerations = np.stack([pick(a1), np.zeros(D.shape), pick(a3)], axis=-1)
+    return valid.any(axis=-1), times, accelerations, pick(vp)
+
+
+def quantize_trapezoid(
+    solution: TrapezoidSolution, dt: float, args: tuple[FloatArray, ...], sync: Sync
+) -> TrapezoidSolution:
+    """Re-plan so every switching time and the duration are whole multiples of ``dt``.
+
+    Starts from the continuous optimum rounded up to the period and adds periods
+    until whole-step phases exist that keep every limit (joint by joint for
+    ``sync=None``; common to all joints otherwise). For moves at rest at both ends
+    this takes at most one extra period, so the duration exceeds the continuous
+    optimum by less than ``2 dt``.
+    """
+    if sync == "phase":
+        law_args = tuple(a[..., np.newaxis] for a in _phase_law(*args))
+        law = quantize_trapezoid(
+            TrapezoidSolution(*(None,) * 4, own=solution.duration[..., np.newaxis], limiting=None),
+            dt,
+            law_args,
+            sync=None,
+        )
+        times, accelerations, peak = _scale_law(
+            law.times[..., 0, :], law.accelerations[..., 0, :], law.peak_velocity[..., 0], args[0]
+        )
+        return TrapezoidSolution(
+            times, accelerations, peak, law.duration, solution.own, solution.limiting
+        )
+    per_joint = sync is None
+    target = solution.own if per_joint else solution.duration
+    steps = np.ceil(target / dt - 1e-9)
+    shape = args[0].shape
+    times = np.zeros((*shape, 3))
+    accelerations = np.zeros((*shape, 3))
+    peak = np.zeros(shape)
+    done = np.zeros(steps.shape, bool)
+    for _ in range(_MAX_EXTRA_PERIODS):
+        valid, t, a, vp = _integer_phases(steps if per_joint else steps[..., np.newaxis], dt, args)
+        ok = valid if per_joint else valid.all(axis=-1)
+        new = ok & ~done
+        mask = new if per_joint else np.broadcast_to(new[..., np.newaxis], shape)
+        times[mask], accelerations[mask], peak[mask] = t[mask], a[mask], vp[mask]
+        done |= ok
+        if done.all():
+            break
+        steps = np.where(done, steps, steps + 1)
+    else:
+        raise InfeasibleError(
+            f"no profile with phases in whole multiples of dt={dt:g} s keeps the limits "
+            f"within {_MAX_EXTRA_PERIODS} periods of the continuous optimum"
+        )
+    duration = (steps.max(axis=-1) if per_joint else steps) * dt
+    own = solution.own
+    return TrapezoidSolution(times, accelerations, peak, duration, own, solution.limiting)
+
+
+def _limit_magnitudes(
+    name: str, spec: LimitSpec, ndof: int, unit: str
+) -> tuple[FloatArray, FloatArray]:
+    """``(upper, -lower)`` magnitudes of a symmetric or ``(lower, upper)`` limit."""
+    bounds = parse_bounds(name, spec, quantity="velocity")
+    if bounds is None:
+        raise InvalidInputError(f"{name} is required ({unit})")
+    lower, upper = bounds.for_ndof(name, ndof)
+    if np.any(lower >= 0) or np.any(upper <= 0):
+        raise InvalidInputError(f"{name} must allow motion both ways: lower < 0 < upper ({unit})")
+    return np.array(upper, dtype=float), -np.array(lower, dtype=float)
+
+
+def _read_sync(sync: object) -> Sync:
+    if sync not in SYNC_MODES:
+        raise InvalidInputError(f"sync must be 'time', 'phase' or None, got {sync!r}")
+    return sync  # type: ignore[return-value]
+
+
+def _check_boundary_velocities(
+    name: str, values: FloatArray, vpos: FloatArray, vneg: FloatArray
+) -> None:
+    bad = np.flatnonzero((values > vpos) | (values < -vneg))
+    if bad.size:
+        j = bad[0]
+        bound = vpos[j] if values[j] > 0 else -vneg[j]
+        raise InfeasibleError(
+            f"{name}={values[j]:.6g} rad/s is beyond the velocity limit {bound:.6g} rad/s "
+            f"(joint {j + 1})"
+        )
+
+
+def trapezoidal(
+    q0: ArrayLike,
+    qf: ArrayLike,
+    vmax: LimitSpec = None,
+    amax: LimitSpec = None,
+    *,
+    duration: float | None = None,
+    blend_ratio: float | None = None,
+    blend_time: float | None = None,
+    v0: ArrayLike = 0.0,
+    vf: ArrayLike = 0.0,
+    sync: Sync = "time",
+    dt: float | None = None,
+    allow_overshoot: bool = True,
+) -> Trajectory:
+    """Trapezoidal (or triangular) velocity profile: linear segments with parabolic blends.
+
+    Two ways to use it:
+
+    * **Limits** (``vmax`` and ``amax``): the time-optimal bang-coast-bang profile of
+      every joint, a triangle when the distance is too short to reach ``vmax``.
+      ``duration`` asks for a longer, exact duration instead.
+    * **Coursework rule** (``blend_ratio`` or ``blend_time``): rest to rest, every
+      joint accelerates for ``t_b = blend_ratio * duration`` (or ``blend_time``),
+      coasts, and decelerates for ``t_b``. With ``duration`` the limits are
+      verified; without it, the shortest duration the rule allows is used.
+      ``amax`` is optional here.
+
+    Parameters
+    ----------
+    q0, qf : float or array_like, shape (ndof,)
+        Start and end positions (rad, or m).
+    vmax, amax : float, sequence or tuple
+        Velocity (rad/s) and acceleration (rad/s^2) limits: a number or one per
+        joint for symmetric limits, a tuple ``(lower, upper)`` for asymmetric ones.
+    duration : float, optional
+        Exact duration (s) for every joint.
+    blend_ratio : float, optional
+        ``t_b / duration``, in (0, 0.5].
+    blend_time : float, optional
+        ``t_b`` in s.
+    v0, vf : float or array_like
+        Boundary velocities (rad/s), within the velocity limits (limit mode only).
+    sync : {"time", "phase", None}
+        ``"time"``: all joints finish together at the slowest joint's minimum time;
+        every other joint takes the common duration with its accelerations at the
+        limit and the lowest peak velocity that fits (the gentlest profile).
+        ``"phase"``: all joints follow one time law ``q0 + (qf - q0) s(t)``, so they
+        move on a straight line in joint space and switch phases together; the law
+        is the fastest one within every joint's limits (rest to rest, this is the
+        coursework's common acceleration and total times, but never past a limit).
+        ``None``: every joint moves as fast as it can on its own; the ones that
+        finish early hold their end state (continuing at ``vf``).
+    dt : float, optional
+        Controller period (s): every switching time and the duration become whole
+        multiples of it, all limits still hold (at most ``2 dt`` longer at rest).
+    allow_overshoot : bool
+        With ``False``, raise :class:`InfeasibleError` when the fastest profile
+        leaves the interval between ``q0`` and ``qf`` (a boundary velocity that
+        cannot be braked in time, or that points away from the target).
+
+    Returns
+    -------
+    Trajectory
+        Piecewise quadratic; ``info`` holds ``phase_times`` (per joint: rise,
+        coast, fall in s), ``peak_velocity``, ``accelerations`` (rise, fall),
+        ``minimum_durations`` (each joint alone) and ``limiting_joint``.
+
+    Raises
+    ------
+    InvalidInputError
+        Malformed input: NaN, wrong shapes, limits that are not > 0, a blend
+        ratio outside (0, 0.5], an unknown sync mode.
+    InfeasibleError
+        A duration below the minimum (the message names the minimum and the
+        limit that sets it), a boundary velocity beyond the limit, an overshoot
+        that is not allowed.
+    """
+    ndof = count_dof(q0=q0, qf=qf, v0=v0, vf=vf)
+    for name, spec in (("vmax", vmax), ("amax", amax)):
+        if isinstance(spec, tuple):
+            continue
+        if spec is not None:
+            ndof = max(ndof, count_dof(q0=q0, qf=qf, v0=v0, vf=vf, **{name: spec}))
+    start = joint_vector("q0", q0, ndof, unit="rad")
+    end = joint_vector("qf", qf, ndof, unit="rad")
+    start_v = joint_vector("v0", v0, ndof, unit="rad/s")
+    end_v = joint_vector("vf", vf, ndof, unit="rad/s")
+    sync = _read_sync(sync)
+    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    if blend_ratio is not None or blend_time is not None:
+        if np.any(start_v) or np.any(end_v):
+            raise InvalidInputError(
+                "blend_ratio/blend_time describe rest-to-rest moves; v0 and vf must be 0"
+            )
+        return _blend_rule(start, end, vmax, amax, duration, blend_ratio, blend_time, step)
+    if vmax is None or amax is None:
+        raise InvalidInputError(
+            "trapezoidal needs vmax and amax (or blend_ratio / blend_time with a duration)"
+        )
+    vpos, vneg = _limit_magnitudes("vmax", vmax, ndof, "rad/s")
+    apos, aneg = _limit_magnitudes("amax", amax, ndof, "rad/s^2")
+    _check_boundary_velocities("v0", start_v, vpos, vneg)
+    _check_boundary_velocities("vf", end_v, vpos, vneg)
+    args = (end - start, start_v, end_v, vpos, vneg, apos, aneg)
+    requested = None
+    if duration is not None:
+        requested = positive_scalar("duration", duration, unit="s")
+        fastest = solve_trapezoid(*args, sync=sync if sync == "phase" else "time")
+        if requested < fastest.duration * (1 - 1e-12):
+            joint = int(fastest.limiting) if fastest.limiting >= 0 else int(np.argmax(fastest.own))
+            raise InfeasibleError(
+                f"duration {requested:.6g} s is below the minimum {float(fastest.duration):.6g} s "
+                f"set by vmax={vpos[joint]:.6g} rad/s and amax={apos[joint]:.6g} rad/s^2 "
+                f"(joint {joint + 1})"
+            )
+        requested = max(requested, float(fastest.duration))
+    solution = solve_trapezoid(
+        *args,
+        sync=sync if duration is None else (sync if sync == "phase" else "time"),
+        duration=None if requested is None else np.array(requested),
+    )
+    if step is not None:
+        solution = quantize_trapezoid(solution, step, args, sync if duration is None else "time")
+    trajectory = _to_trajectory(start, start_v, solution, sync, step)
+    if not allow_overshoot:
+        _refuse_overshoot(trajectory, start, end, start_v, end_v)
+    return trajectory
+
+
+def _to_trajectory(
+    start: FloatArray,
+    start_v: FloatArray,
+    solution: TrapezoidSolution,
+    sync: Sync,
+    dt: float | None,
+    extra: dict[str, object] | None = None,
+) -> Trajectory:
+    plan = PhasePlan(
+        start, start_v, solution.times, solution.accelerations, np.zeros_like(solution.times)
+    )
+    limiting = int(solution.limiting)
+    info: dict[str, object] = {
+        "planner": "trapezoidal",
+        "sync": sync,
+        "dt": dt,
+        "duration": float(solution.duration),
+        "minimum_durations": tuple(float(x) for x in solution.own),
+        "limiting_joint": None if limiting < 0 else limiting,
+        "phase_times": tuple(tuple(float(x) for x in row) for row in solution.times),
+        "peak_velocity": tuple(float(x) for x in solution.peak_velocity),
+        "accelerations": tuple((float(row[0]), float(row[2])) for row in solution.accelerations),
+        **(extra or {}),
+    }
+    return plan_to_trajectory(plan, float(solution.duration), info)
+
+
+def _refuse_overshoot(
+    trajectory: Trajectory, start: FloatArray, end: FloatArray, v0: FloatArray, vf: FloatArray
+) -> None:
+    position = trajectory.extrema(0)
+    low, high = np.minimum(start, end), np.maximum(start, end)
+    scale = 1e-9 * np.maximum(1.0, np.abs(high - low))
+    outside = (position.minimum < low - scale) | (position.maximum > high + scale)
+    if outside.any():
+        j = int(np.flatnonzero(outside)[0])
+        beyond = (
+            position.maximum[j] if position.maximum[j] > high[j] + scale[j] else position.minimum[j]
+        )
+        raise InfeasibleError(
+            f"joint {j + 1} cannot reach qf={end[j]:.6g} rad from v0={v0[j]:.6g} rad/s to "
+            f"vf={vf[j]:.6g} rad/s without overshoot (the fastest profile reaches "
+            f"{beyond:.6g} rad); pass allow_overshoot=True to accept it"
+        )
+
+
+def _blend_rule(
+    start: FloatArray,
+    end: FloatArray,
+    vmax: LimitSpec,
+    amax: LimitSpec,
+    duration: float | None,
+    blend_ratio: float | None,
+    blend_time: float | None,
+    dt: float | None,
+) -> Trajectory:
+    """Rest-to-rest LSPB with a given blend: ``v = D / (T - t_b)``, ``a = v / t_b``."""
+    if blend_ratio is not None and blend_time is not None:
+        raise InvalidInputError("give blend_ratio or blend_time, not both")
+    ndof = start.size
+    distance = end - start
+    magnitude = np.abs(distance)
+    if vmax is None:
+        raise InvalidInputError("the blend rule needs vmax to check or find the duration")
+    vpos, vneg = _limit_magnitudes("vmax", vmax, ndof, "rad/s")
+    v_limit = np.where(distance >= 0, vpos, vneg)
+    if amax is not None:
+        apos, aneg = _limit_magnitudes("amax", amax, ndof, "rad/s^2")
+        a_limit = np.minimum(apos, aneg)  # the rule accelerates and brakes equally hard
+    else:
+        a_limit = None
+    if blend_ratio is not None:
+        ratio = finite_array("blend_ratio", blend_ratio)
+        if ratio.ndim != 0 or not 0.0 < float(ratio) <= 0.5:
+            raise InvalidInputError(f"blend_ratio must be in (0, 0.5], got {blend_ratio!r}")
+        r = float(ratio)
+        # v = D / (T (1 - r)) <= V  and  a = D / (T^2 r (1 - r)) <= A
+        by_v = magnitude / (v_limit * (1.0 - r))
+        by_a = np.zeros(ndof) if a_limit is None else np.sqrt(magnitude / (a_limit * r * (1 - r)))
+    else:
+        tb = positive_scalar("blend_time", blend_time, unit="s")
+        # T >= 2 tb;  v = D / (T - tb) <= V;  a = D / (tb (T - tb)) <= A
+        by_v = tb + magnitude / v_limit
+        by_a = np.zeros(ndof) if a_limit is None else tb + magnitude / (a_limit * tb)
+        by_v = np.maximum(by_v, 2 * tb)
+    minimum = np.maximum(by_v, by_a)
+    joint = int(np.argmax(minimum))
+    shortest = float(minimum[joint])
+    if duration is None:
+        T = shortest
+    else:
+        T = positive_scalar("duration", duration, unit="s")
+        if T < shortest * (1 - 1e-12):
+            which = "vmax" if by_v[joint] >= by_a[joint] else "amax"
+            value = v_limit[joint] if which == "vmax" else a_limit[joint]  # type: ignore[index]
+            unit = "rad/s" if which == "vmax" else "rad/s^2"
+            raise InfeasibleError(
+                f"duration {T:.6g} s is below the minimum {shortest:.6g} s set by "
+                f"{which}={value:.6g} {unit} (joint {joint + 1})"
+            )
+    if dt is not None:
+        T = float(np.ceil(T / dt - 1e-9) * dt)
+    tb = T * float(blend_ratio) if blend_ratio is not None else float(tb)
+    if blend_ratio is not None and dt is not None:
+        tb = float(np.ceil(tb / dt - 1e-9) * dt)
+    if 2 * tb > T * (1 + 1e-12):
+        raise InfeasibleError(f"blend_time {tb:.6g} s is more than half the duration {T:.6g} s")
+    velocity = distance / (T - tb)
+    acceleration = velocity / tb
+    times = np.tile([tb, T - 2 * tb, tb], (ndof, 1))
+    accelerations = np.stack([acceleration, np.zeros(ndof), -acceleration], axis=-1)
+    solution = TrapezoidSolution(
+        times, accelerations, velocity, np.array(T), minimum, np.array(joint)
+    )
+    extra = {"blend_time": tb, "rule": "blend_ratio" if blend_ratio is not None else "blend_time"}
+    return _to_trajectory(start, np.zeros(ndof), solution, "phase", dt, extra)
