@@ -57,8 +57,10 @@ def _stack(phases: math.Phases) -> tuple[FloatArray, FloatArray]:
 
 
 def _exact_duration(T: FloatArray, args: tuple[FloatArray, ...]) -> math.Phases:
-    """Per-joint phases taking exactly ``T``: accelerations at the limits where that
-    works (the gentlest, lowest peak speed), gentler accelerations elsewhere.
+    """Per-joint phases taking exactly ``T``.
+
+    Accelerations stay at the limits where that works (the gentlest: lowest peak
+    speed); gentler accelerations are used elsewhere.
     """
     phases = math.fixed_duration(T, *args)
     if phases.valid.all():
