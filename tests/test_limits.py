@@ -7,9 +7,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
-from support import CLOSED_FORM, ROUNDING, piecewise_trajectories
 
 import trajkit as tk
+from support import CLOSED_FORM, ROUNDING, piecewise_trajectories
 from trajkit import InvalidInputError, Limits, Report, Trajectory, Violation, check
 
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
-from support import ROUNDING
 
+from support import ROUNDING
 from trajkit import _poly
 
 # Absolute floor for relative bounds: hypothesis draws subnormal coefficients, whose
@@ -263,7 +263,7 @@ def test_extrema_on_intervals_known_cases(
 def test_extrema_on_intervals_ignores_a_negligible_leading_coefficient() -> None:
     # 1e-30 x^3 - (x - 1)^2: the cubic term is rounding noise; max stays 0 at x = 1.
     c = np.array([[1e-30], [-1.0], [2.0], [-1.0]])
-    low, x_low, high, x_high = _poly.extrema_on_intervals(c, np.array([2.0]))
+    low, _, high, x_high = _poly.extrema_on_intervals(c, np.array([2.0]))
     assert high[0] == pytest.approx(0.0, abs=1e-12)
     assert x_high[0] == pytest.approx(1.0, abs=1e-9)
     assert low[0] == pytest.approx(-1.0, abs=1e-12)

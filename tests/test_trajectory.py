@@ -10,6 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
+
+import trajkit as tk
 from support import (
     CLOSED_FORM,
     FINITE_DIFFERENCE,
@@ -20,8 +22,6 @@ from support import (
     piecewise_trajectories,
     slow_evaluate,
 )
-
-import trajkit as tk
 from trajkit import ContinuityWarning, InvalidInputError, Trajectory
 
 # Absolute floor for comparisons that may underflow: hypothesis draws subnormal
@@ -549,8 +549,9 @@ def test_then_shifts_the_second_trajectory() -> None:
 
 def test_then_pads_to_the_higher_degree() -> None:
     a = Trajectory([0.0, 1.0], [[[0.0]]])  # constant 0 (degree 0)
-    b = cubic_rest_to_rest([0.0], [1.0], 2.0)  # starts at rest at 0
-    joined = a.then(b)
+    b = cubic_rest_to_rest([0.0], [1.0], 2.0)  # starts at 0 with velocity 0, acceleration 1.5
+    with pytest.warns(ContinuityWarning, match=r"acceleration jumps by 1\.5 at joint 1"):
+        joined = a.then(b)
     assert joined.degree == 3
     assert joined.coefficients.shape == (4, 2, 1)
     np.testing.assert_array_equal(joined.coefficients[:, 0, 0], [0.0, 0.0, 0.0, 0.0])
@@ -579,12 +580,16 @@ def test_then_refuses_a_position_mismatch() -> None:
 
 
 def test_then_allows_a_position_mismatch_within_atol() -> None:
-    a = cubic_rest_to_rest([0.0], [1.0], 1.0)
-    b = cubic_rest_to_rest([1.0 + 1e-4], [1.0], 1.0)
-    with _raises_invalid("position"):
+    a = Trajectory([0.0, 1.0], [[[1.0]]])  # at rest at 1
+    b = Trajectory([0.0, 1.0], [[[1.0 + 1e-4]]])  # at rest, 1e-4 higher
+    with _raises_invalid(r"position jumps by 0\.0001"):
         a.then(b)
-    joined = a.then(b, atol=1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ContinuityWarning)
+        joined = a.then(b, atol=1e-3)
     assert joined.duration == 2.0
+    # The mismatch is accepted, not smoothed: the joined trajectory steps at t = 1.
+    np.testing.assert_array_equal(joined.position([0.5, 1.0, 1.5]), [[1.0], [1.0001], [1.0001]])
 
 
 @pytest.mark.xfail(
@@ -633,7 +638,7 @@ def test_then_refuses_a_bad_atol(atol: float) -> None:
 
 
 def _starting_at(tr: Trajectory, position: np.ndarray) -> Trajectory:
-    """``tr`` cut or zero-padded to ``position.size`` joints, its first value set to ``position``."""
+    """``tr`` cut or zero-padded to ``position.size`` joints, starting at ``position``."""
     ndof = position.size
     c = np.array(tr.coefficients)[:, :, :ndof]
     if c.shape[2] < ndof:

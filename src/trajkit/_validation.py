@@ -22,9 +22,12 @@ def _describe(value: Any) -> str:
 
 
 def finite_array(name: str, value: ArrayLike, *, unit: str = "") -> FloatArray:
-    """Return ``value`` as a float64 array, refusing NaN, inf and non-numbers."""
+    """Return ``value`` as a float64 array, refusing NaN, inf and non-numbers.
+
+    The result may share memory with ``value``: callers that keep it copy it.
+    """
     try:
-        array = np.array(value, dtype=np.float64)
+        array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise InvalidInputError(f"{name} must be numeric, got {value!r}") from exc
     if not np.all(np.isfinite(array)):

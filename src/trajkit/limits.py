@@ -79,7 +79,7 @@ def parse_bounds(name: str, spec: LimitSpec, *, quantity: str | None = None) -> 
                 "contain 0 (a robot at rest must be within its limits); pass a list or "
                 "array for per-joint symmetric limits"
             )
-        return Bounds(lower, upper)
+        return Bounds(np.array(lower), np.array(upper))
     if quantity == "position":
         raise InvalidInputError(
             f"{name} limits must be a tuple (lower, upper) of numbers or per-joint arrays"
@@ -91,7 +91,7 @@ def parse_bounds(name: str, spec: LimitSpec, *, quantity: str | None = None) -> 
         )
     if np.any(magnitude <= 0):
         raise InvalidInputError(f"{name} limits must be > 0, got {magnitude}")
-    return Bounds(-magnitude, magnitude)
+    return Bounds(-magnitude, np.array(magnitude))
 
 
 @dataclass(frozen=True, init=False)

@@ -54,7 +54,7 @@ class Samples:
     names: tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
-        t = finite_array("t", self.t, unit="s")
+        t = np.array(finite_array("t", self.t, unit="s"))  # own copy, made read-only
         if t.ndim != 1 or t.size == 0:
             raise InvalidInputError(f"t must be a non-empty 1-D array, got shape {t.shape}")
         if np.any(np.diff(t) <= 0):
@@ -62,7 +62,7 @@ class Samples:
         object.__setattr__(self, "t", t)
         ndof = None
         for name in _FIELDS:
-            array = finite_array(name, getattr(self, name))
+            array = np.array(finite_array(name, getattr(self, name)))
             if array.ndim == 1:
                 array = array[:, np.newaxis]
             if array.ndim != 2 or array.shape[0] != t.size:

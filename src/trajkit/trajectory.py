@@ -75,7 +75,8 @@ class Trajectory:
     Parameters
     ----------
     breakpoints : array_like, shape (m + 1,)
-        Strictly increasing times (s) bounding the ``m`` pieces.
+        Strictly increasing times (s) bounding the ``m`` pieces; ``[t, t]`` (one
+        piece of zero length) describes a standstill of zero duration.
     coefficients : array_like, shape (k + 1, m, ndof) or (k + 1, m)
         Local power-basis coefficients; a 2-D array means one joint.
     info : mapping, optional
@@ -99,8 +100,13 @@ class Trajectory:
         *,
         info: Mapping[str, Any] | None = None,
     ) -> None:
-        times = increasing_times("breakpoints", breakpoints)
-        c = finite_array("coefficients", coefficients)
+        raw = finite_array("breakpoints", breakpoints, unit="s")
+        if raw.shape == (2,) and raw[0] == raw[1]:
+            times = raw  # a zero-duration standstill: what a move of zero length needs
+        else:
+            times = increasing_times("breakpoints", raw)
+        times = np.array(times)  # own copies: they are made read-only below
+        c = np.array(finite_array("coefficients", coefficients))
         if c.ndim == 2:
             c = c[:, :, np.newaxis]
         if c.ndim != 3:

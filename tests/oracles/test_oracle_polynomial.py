@@ -19,7 +19,7 @@ import trajkit as tk
 # pytest puts this file's own folder (tests/oracles) on sys.path, not tests/, where the
 # shared helpers live; add it explicitly so `import support` works from the subfolder.
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from support import CLOSED_FORM  # noqa: E402
+from support import CLOSED_FORM
 
 rtb = pytest.importorskip(
     "roboticstoolbox",
@@ -28,7 +28,8 @@ rtb = pytest.importorskip(
 )
 mr = pytest.importorskip(
     "modern_robotics",
-    reason="modern_robotics (the time-scaling oracle) is not installed; pip install modern-robotics",
+    reason="modern_robotics (the time-scaling oracle) is not installed; "
+    "pip install modern-robotics",
 )
 
 ORACLE_RTOL = CLOSED_FORM  # closed forms on both sides: 1e-9, scaled as described above

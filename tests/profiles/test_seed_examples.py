@@ -21,8 +21,8 @@ import trajkit as tk
 # pytest puts this file's own folder (tests/profiles) on sys.path, not tests/, where the
 # shared helpers live; add it explicitly so `import support` works from the subfolder.
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import support  # noqa: E402
-from support import CLOSED_FORM  # noqa: E402
+import support
+from support import CLOSED_FORM
 
 # ------------------------------------------------------------------------ seed 000 §3.1
 REGISTRATION = 5351

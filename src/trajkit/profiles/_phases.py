@@ -75,6 +75,8 @@ def phase_states(plan: PhasePlan) -> tuple[FloatArray, FloatArray, FloatArray]:
 
 def merge_breakpoints(times: FloatArray, duration: float) -> FloatArray:
     """Sorted unique breakpoints in ``[0, duration]``, merging near-duplicates."""
+    if duration == 0.0:
+        return np.zeros(2)
     points = np.sort(np.concatenate([[0.0, duration], times.ravel()]))
     points = points[(points >= 0.0) & (points <= duration)]
     keep = np.concatenate([[True], np.diff(points) > _MERGE * max(duration, 1.0)])

@@ -19,6 +19,8 @@ velocity bound), ``apos``, ``aneg`` likewise, all > 0.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
 from trajkit._validation import FloatArray
@@ -300,3 +302,99 @@ def _fixed_duration_general(T, D, v0, vf, vpos, vneg, apos, aneg) -> Phases:
                 )  # fmt: skip
     gentleness = np.where(best.valid, np.abs(best.vp), np.inf)
     return best.pick(np.argmin(gentleness, axis=-1))
+
+
+def _direction_limits(D, vpos, vneg, apos, aneg):
+    """Speed, rise and fall acceleration limits in each move's direction."""
+    if vpos is vneg and apos is aneg:  # symmetric limits: no selection needed
+        return vpos, apos, aneg
+    forward = D >= 0
+    return (
+        np.where(forward, vpos, vneg),
+        np.where(forward, apos, aneg),
+        np.where(forward, aneg, apos),
+    )
+
+
+def rest_minimum_time(D, vpos, vneg, apos, aneg) -> FloatArray:
+    """Shortest duration of moves at rest at both ends.
+
+    The rise and fall at full acceleration cover ``k vp^2`` with
+    ``k = 1/(2 A_rise) + 1/(2 A_fall)``; the peak is ``vp = min(V, sqrt(d / k))``
+    and the duration ``k vp + d / vp`` (``2 sqrt(k d)`` for a triangle).
+    """
+    speed, rise, fall = _direction_limits(D, vpos, vneg, apos, aneg)
+    d = np.abs(D)
+    k = 0.5 / rise + 0.5 / fall
+    vp = np.sqrt(d / k)
+    np.minimum(vp, speed, out=vp)
+    duration = np.divide(d, vp, out=np.zeros_like(vp), where=vp > 0)
+    duration += k * vp
+    return duration
+
+
+class RestPhases:
+    """Phases of moves at rest at both ends, computed field by field on first use.
+
+    Holds the peak speed magnitude ``speed`` and the limits; ``t1 ... vp`` follow
+    the :class:`Phases` attributes. Planning many moves needs only the durations,
+    so the rest waits until someone asks.
+    """
+
+    def __init__(self, D, speed, rise, fall, T) -> None:
+        self._D, self._speed, self._rise, self._fall, self._T = D, speed, rise, fall, T
+
+    @cached_property
+    def t1(self) -> FloatArray:
+        return self._speed / self._rise
+
+    @cached_property
+    def t3(self) -> FloatArray:
+        return self._speed / self._fall
+
+    @cached_property
+    def t2(self) -> FloatArray:
+        return np.maximum(self._T - self.t1 - self.t3, 0.0)
+
+    @cached_property
+    def _sign(self) -> FloatArray:
+        return np.sign(self._D)
+
+    @cached_property
+    def a1(self) -> FloatArray:
+        return self._sign * self._rise
+
+    @cached_property
+    def a3(self) -> FloatArray:
+        return -self._sign * self._fall
+
+    @cached_property
+    def vp(self) -> FloatArray:
+        return self._sign * self._speed
+
+    @cached_property
+    def valid(self) -> FloatArray:
+        return np.ones(np.shape(self._D), bool)
+
+    @property
+    def duration(self) -> FloatArray:
+        return self.t1 + self.t2 + self.t3
+
+
+def rest_to_rest(D, vpos, vneg, apos, aneg, T) -> RestPhases:
+    """Phases of moves at rest at both ends taking exactly ``T`` >= the minimum.
+
+    Accelerations at the limits and the lowest peak speed that fits (the gentlest
+    profile): ``vp = 2 d / (T + sqrt(T^2 - 4 k d))``; at the minimum duration
+    this is the fastest profile itself.
+    """
+    speed, rise, fall = _direction_limits(D, vpos, vneg, apos, aneg)
+    d = np.abs(D)
+    four_k = 2.0 / rise + 2.0 / fall
+    root = T * T - four_k * d
+    np.maximum(root, 0.0, out=root)
+    np.sqrt(root, out=root)
+    root += T
+    vp = np.divide(2.0 * d, root, out=np.zeros_like(root), where=root > 0)
+    np.minimum(vp, speed, out=vp)  # rounding at the minimum duration
+    return RestPhases(D, vp, rise, fall, np.broadcast_to(T, vp.shape))

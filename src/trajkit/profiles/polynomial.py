@@ -263,20 +263,18 @@ def _boundary_polynomial(
                     f"{_LIMIT_UNITS[binding]} (joint {joint + 1})"
                 )
             _, own, _, _ = _minimum_duration(start, end, limits)
-    if T == 0.0:
-        # Nothing moves, so the limits ask for no time at all; a trajectory needs a
-        # positive duration and only the user knows how long to hold still.
-        raise InfeasibleError(
-            f"{name}: start and end states are identical, so there is no move to time; "
-            "give a duration to hold the position"
-        )
     if given:
         info.update(
             minimum_durations=tuple(float(x) for x in own),
             limiting_joint=int(joint),
             limiting=_LIMIT_NAMES[int(binding)],
         )
-    coefficients = hermite_pieces(start, end, np.full(ndof, T))[:, np.newaxis, :]
+    if T == 0.0:
+        # Nothing moves and the limits ask for no time: a zero-duration standstill.
+        coefficients = np.zeros((2 * derivatives, 1, ndof))
+        coefficients[-1, 0] = start[0]
+    else:
+        coefficients = hermite_pieces(start, end, np.full(ndof, T))[:, np.newaxis, :]
     info["duration"] = T
     return Trajectory([0.0, T], coefficients, info=info)
 

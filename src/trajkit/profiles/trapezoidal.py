@@ -7,7 +7,6 @@ joints on the last axis.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -32,22 +31,59 @@ Sync = Literal["time", "phase"] | None
 SYNC_MODES = ("time", "phase", None)
 
 
-@dataclass
 class TrapezoidSolution:
     """Arrays of a solved (batch of) trapezoid problem(s); joints on the last axis.
 
     ``times`` and ``accelerations`` have a trailing phase axis of 3 (rise, coast,
     fall); ``duration`` is the common duration, ``own`` each joint's minimum alone,
     ``limiting`` the joint whose minimum sets ``duration`` (-1 under phase sync,
-    where all joints share one time law).
+    where all joints share one time law). Built from ``phases`` on first use when
+    not given: batch planning returns before any of them is needed.
     """
 
-    times: FloatArray
-    accelerations: FloatArray
-    peak_velocity: FloatArray
-    duration: FloatArray
-    own: FloatArray
-    limiting: FloatArray
+    __slots__ = ("_accelerations", "_limiting", "_peak", "_phases", "_times", "duration", "own")
+
+    def __init__(
+        self,
+        times: FloatArray | None,
+        accelerations: FloatArray | None,
+        peak_velocity: FloatArray | None,
+        duration: FloatArray,
+        own: FloatArray,
+        limiting: FloatArray | None,
+        phases: math.Phases | None = None,
+    ) -> None:
+        self._times, self._accelerations, self._peak = times, accelerations, peak_velocity
+        self.duration, self.own = duration, own
+        self._limiting, self._phases = limiting, phases
+
+    @property
+    def times(self) -> FloatArray:
+        """Phase durations (s), shape ``(..., ndof, 3)``."""
+        if self._times is None:
+            self._times, self._accelerations = _stack(self._phases)
+        return self._times
+
+    @property
+    def accelerations(self) -> FloatArray:
+        """Phase accelerations, shape ``(..., ndof, 3)`` (the coast's is 0)."""
+        if self._accelerations is None:
+            self._times, self._accelerations = _stack(self._phases)
+        return self._accelerations
+
+    @property
+    def peak_velocity(self) -> FloatArray:
+        """Signed coast (peak) velocity of every joint."""
+        if self._peak is None:
+            self._peak = self._phases.vp
+        return self._peak
+
+    @property
+    def limiting(self) -> FloatArray:
+        """Index of the joint whose own minimum is the longest."""
+        if self._limiting is None:
+            self._limiting = np.argmax(self.own, axis=-1)
+        return self._limiting
 
 
 def _stack(phases: math.Phases) -> tuple[FloatArray, FloatArray]:
@@ -147,6 +183,8 @@ def solve_trapezoid(
     args = (distance, v0, vf, vpos, vneg, apos, aneg)
     if sync == "phase":
         return _solve_phase_synchronized(*args, duration=duration)
+    if not np.any(v0) and not np.any(vf):
+        return _solve_rest_to_rest(distance, vpos, vneg, apos, aneg, sync, duration)
     fastest = math.minimum_time(*args)
     own = fastest.duration
     limiting = np.argmax(own, axis=-1)
@@ -211,6 +249,26 @@ def _scale_law(
     times = np.broadcast_to(law_times[..., np.newaxis, :], (*distance.shape, 3)).copy()
     accelerations = law_acc[..., np.newaxis, :] * distance[..., np.newaxis]
     return times, accelerations, law_vp[..., np.newaxis] * distance
+
+
+def _solve_rest_to_rest(
+    distance: FloatArray,
+    vpos: FloatArray,
+    vneg: FloatArray,
+    apos: FloatArray,
+    aneg: FloatArray,
+    sync: Sync,
+    duration: FloatArray | None,
+) -> TrapezoidSolution:
+    """All closed forms: at rest at both ends every duration above the minimum works."""
+    own = math.rest_minimum_time(distance, vpos, vneg, apos, aneg)
+    if sync is None and duration is None:
+        T, target = own.max(axis=-1), own
+    else:
+        T = own.max(axis=-1) if duration is None else np.asarray(duration, dtype=float)
+        target = T[..., np.newaxis]
+    phases = math.rest_to_rest(distance, vpos, vneg, apos, aneg, target)
+    return TrapezoidSolution(None, None, None, T, own, None, phases=phases)
 
 
 def _solve_phase_synchronized(*args: FloatArray, duration: FloatArray | None) -> TrapezoidSolution:
@@ -597,15 +655,40 @@ def _blend_rule(
                 f"duration {T:.6g} s is below the minimum {shortest:.6g} s set by "
                 f"{which}={value:.6g} {unit} (joint {joint + 1})"
             )
+    fixed_tb = None if blend_ratio is not None else float(tb)
+
+    def blend_of(total: float) -> float:
+        return total * float(blend_ratio) if fixed_tb is None else fixed_tb
+
     if dt is not None:
-        T = float(np.ceil(T / dt - 1e-9) * dt)
-    tb = T * float(blend_ratio) if blend_ratio is not None else float(tb)
-    if blend_ratio is not None and dt is not None:
-        tb = float(np.ceil(tb / dt - 1e-9) * dt)
+        # Whole periods for the duration and the blends; add periods until the
+        # rounded blend keeps every joint within its limits.
+        total = float(np.ceil(T / dt - 1e-9) * dt)
+        for _ in range(_MAX_EXTRA_PERIODS):
+            tb = max(float(np.ceil(blend_of(total) / dt - 1e-9) * dt), dt)
+            if 2 * tb <= total * (1 + 1e-12):
+                velocity = magnitude / (total - tb)
+                ok = np.all(velocity <= v_limit * (1 + 1e-12)) and (
+                    a_limit is None or np.all(velocity / tb <= a_limit * (1 + 1e-12))
+                )
+                if ok:
+                    break
+            total += dt
+        else:
+            raise InfeasibleError(
+                f"no blend in whole multiples of dt={dt:g} s keeps the limits near "
+                f"the duration {T:.6g} s"
+            )
+        T = total
+    else:
+        tb = blend_of(T)
     if 2 * tb > T * (1 + 1e-12):
         raise InfeasibleError(f"blend_time {tb:.6g} s is more than half the duration {T:.6g} s")
-    velocity = distance / (T - tb)
-    acceleration = velocity / tb
+    if T == 0.0:
+        velocity = acceleration = np.zeros(ndof)
+    else:
+        velocity = distance / (T - tb)
+        acceleration = velocity / tb
     times = np.tile([tb, T - 2 * tb, tb], (ndof, 1))
     accelerations = np.stack([acceleration, np.zeros(ndof), -acceleration], axis=-1)
     solution = TrapezoidSolution(

@@ -1,0 +1,317 @@
+"""Plan many problems at once: arrays of shape ``(B, ndof)``, no Python loop per problem.
+
+Each planner returns a :class:`BatchTrajectory` holding every problem's phases;
+it evaluates all problems in one vectorized call and turns any one of them into an
+ordinary :class:`~trajkit.Trajectory`.
+
+Examples
+--------
+>>> import numpy as np, trajkit as tk
+>>> rng = np.random.default_rng(0)
+>>> q0, qf = rng.uniform(-1, 1, (1000, 6)), rng.uniform(-1, 1, (1000, 6))
+>>> plans = tk.batch.trapezoidal(q0, qf, vmax=1.0, amax=2.0)
+>>> plans.durations.shape, plans.position(0.5).shape
+((1000,), (1000, 6))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.limits import LimitSpec
+from trajkit.profiles._phases import PhasePlan, phase_states, plan_to_trajectory
+from trajkit.profiles.trapezoidal import (
+    Sync,
+    TrapezoidSolution,
+    _read_sync,
+    quantize_trapezoid,
+    solve_trapezoid,
+)
+from trajkit.trajectory import Trajectory
+
+__all__ = ["BatchTrajectory", "trapezoidal"]
+
+
+class BatchTrajectory:
+    """``B`` planned problems of ``ndof`` joints each, stored as phase plans.
+
+    Attributes
+    ----------
+    durations : ndarray, shape (B,)
+        Duration of each problem (s).
+    info : dict
+        Per-problem plan arrays (phase times, peaks, each joint's own minimum,
+        limiting joint), each with ``B`` on its first axis.
+
+    Notes
+    -----
+    Evaluation clamps ``t`` to ``[0, duration]`` per problem, like
+    :class:`~trajkit.Trajectory`; a joint that finishes before its problem's
+    duration continues at its final velocity with zero acceleration.
+    """
+
+    __slots__ = ("_info", "_make_info", "_make_plan", "_plan", "_tables", "durations")
+
+    def __init__(
+        self,
+        durations: FloatArray,
+        plan: Callable[[], PhasePlan],
+        info: Callable[[], dict[str, Any]],
+    ) -> None:
+        # Planning is the hot path: phase tables and info are built on first use.
+        self.durations = durations
+        self._make_plan, self._make_info = plan, info
+        self._plan: PhasePlan | None = None
+        self._info: dict[str, Any] | None = None
+        self._tables: tuple[FloatArray, ...] | None = None
+
+    @property
+    def plan(self) -> PhasePlan:
+        """Every problem's phases (start states, durations, accelerations, jerks)."""
+        if self._plan is None:
+            self._plan = self._make_plan()
+        return self._plan
+
+    @property
+    def info(self) -> dict[str, Any]:
+        """Per-problem plan arrays, ``B`` on the first axis of each."""
+        if self._info is None:
+            self._info = self._make_info()
+        return self._info
+
+    def _phase_tables(self) -> tuple[FloatArray, ...]:
+        """Start time and state of every phase, plus a final open-ended coast."""
+        if self._tables is None:
+            plan = self.plan
+            t_start, p_start, v_start = phase_states(plan)
+            d, a, j = plan.durations, plan.accelerations, plan.jerks
+            end = lambda x: x[..., -1]  # noqa: E731
+            last_t = end(t_start) + end(d)
+            last_v = end(v_start) + end(a) * end(d) + end(j) * end(d) ** 2 / 2
+            last_p = (
+                end(p_start) + end(v_start) * end(d) + end(a) * end(d) ** 2 / 2
+                + end(j) * end(d) ** 3 / 6
+            )  # fmt: skip
+            extend = lambda x, y: np.concatenate([x, y[..., np.newaxis]], axis=-1)  # noqa: E731
+            zero = np.zeros_like(last_t)
+            self._tables = (
+                extend(t_start, last_t),
+                extend(p_start, last_p),
+                extend(v_start, last_v),
+                extend(a, zero),
+                extend(j, zero),
+            )
+        return self._tables
+
+    def __len__(self) -> int:
+        return int(self.durations.shape[0])
+
+    @property
+    def ndof(self) -> int:
+        """Number of joints per problem."""
+        return int(self.plan.position.shape[-1])
+
+    def __repr__(self) -> str:
+        return f"BatchTrajectory(problems={len(self)}, ndof={self.ndof})"
+
+    def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
+        """Derivative ``order`` (0-3) of every problem at time(s) ``t``.
+
+        ``t`` scalar gives ``(B, ndof)``; ``t`` of shape ``(m,)`` gives ``(B, m, ndof)``.
+        """
+        if isinstance(order, bool) or order not in (0, 1, 2, 3):
+            raise InvalidInputError(f"order must be 0, 1, 2 or 3, got {order!r}")
+        times = finite_array("t", t, unit="s")
+        if times.ndim > 1:
+            raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
+        scalar = times.ndim == 0
+        m = np.atleast_1d(times)  # (m,)
+        clamped = np.clip(m[np.newaxis, :], 0.0, self.durations[:, np.newaxis])  # (B, m)
+        starts, *states = self._phase_tables()
+        begun = starts[:, :, np.newaxis, :] <= clamped[:, np.newaxis, :, np.newaxis]
+        # Zero-length phases start where their successor does; the last begun wins.
+        index = begun.sum(axis=-1) - 1  # (B, ndof, m)
+        take = lambda x: np.take_along_axis(x, index, axis=-1)  # noqa: E731
+        x = clamped[:, np.newaxis, :] - take(starts)
+        p, v, a, j = (take(q) for q in states)
+        if order == 0:
+            value = p + v * x + a * x**2 / 2 + j * x**3 / 6
+        elif order == 1:
+            value = v + a * x + j * x**2 / 2
+        elif order == 2:
+            value = a + j * x
+        else:
+            value = j + 0 * x
+        value = np.moveaxis(value, 1, -1)  # (B, m, ndof)
+        return value[:, 0, :] if scalar else value
+
+    def position(self, t: ArrayLike) -> FloatArray:
+        """Positions of every problem at ``t``."""
+        return self.evaluate(t, 0)
+
+    def velocity(self, t: ArrayLike) -> FloatArray:
+        """Velocities of every problem at ``t``."""
+        return self.evaluate(t, 1)
+
+    def acceleration(self, t: ArrayLike) -> FloatArray:
+        """Accelerations of every problem at ``t``."""
+        return self.evaluate(t, 2)
+
+    def jerk(self, t: ArrayLike) -> FloatArray:
+        """Jerks of every problem at ``t`` (zero between switches of a trapezoid)."""
+        return self.evaluate(t, 3)
+
+    def __getitem__(self, i: int) -> Trajectory:
+        """Problem ``i`` as an ordinary Trajectory."""
+        if isinstance(i, bool) or not isinstance(i, int | np.integer):
+            raise InvalidInputError(f"index must be an integer, got {i!r}")
+        if not -len(self) <= i < len(self):
+            raise IndexError(f"problem {i} out of range for {len(self)} problems")
+        plan = self.plan
+        single = PhasePlan(
+            plan.position[i],
+            plan.velocity[i],
+            plan.durations[i],
+            plan.accelerations[i],
+            plan.jerks[i],
+        )
+        info = {key: _item(value, i) for key, value in self.info.items()}
+        return plan_to_trajectory(single, float(self.durations[i]), info)
+
+
+def _item(value: Any, i: int) -> Any:
+    if isinstance(value, np.ndarray) and value.ndim >= 1:
+        item = value[i]
+        return item.tolist() if isinstance(item, np.ndarray) else item.item()
+    return value
+
+
+def _problem_array(name: str, value: ArrayLike, unit: str) -> FloatArray:
+    array = finite_array(name, value, unit=unit)
+    if array.ndim > 2:
+        raise InvalidInputError(
+            f"{name} must have shape (B, ndof) or broadcast to it, got {array.shape}"
+        )
+    return array
+
+
+def _limit_pair(
+    name: str, spec: LimitSpec, shape: tuple[int, int], unit: str
+) -> tuple[FloatArray, FloatArray]:
+    """``(upper, -lower)`` magnitudes, broadcastable to ``(B, ndof)`` (not copied)."""
+    if spec is None:
+        raise InvalidInputError(f"{name} is required ({unit})")
+    if isinstance(spec, tuple):
+        if len(spec) != 2:
+            raise InvalidInputError(f"{name} given as a tuple must be (lower, upper)")
+        upper = _problem_array(f"{name} upper bound", spec[1], unit)
+        negative = -_problem_array(f"{name} lower bound", spec[0], unit)
+    else:
+        upper = _problem_array(name, spec, unit)
+        negative = upper  # symmetric: the same object, which the planners detect
+    for value in (upper, negative):
+        try:
+            np.broadcast_shapes(value.shape, shape)
+        except ValueError:
+            raise InvalidInputError(
+                f"{name} must broadcast to the problems' shape {shape}, got {value.shape}"
+            ) from None
+    if np.any(upper <= 0) or np.any(negative <= 0):
+        raise InvalidInputError(f"{name} must allow motion both ways: lower < 0 < upper ({unit})")
+    return upper, negative
+
+
+def _problems(q0: ArrayLike, qf: ArrayLike, v0: ArrayLike, vf: ArrayLike) -> tuple[FloatArray, ...]:
+    arrays = [
+        _problem_array(n, v, u)
+        for n, v, u in (
+            ("q0", q0, "rad"),
+            ("qf", qf, "rad"),
+            ("v0", v0, "rad/s"),
+            ("vf", vf, "rad/s"),
+        )
+    ]
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    except ValueError:
+        raise InvalidInputError(
+            "q0, qf, v0, vf must broadcast to one (B, ndof) shape, got "
+            + ", ".join(str(a.shape) for a in arrays)
+        ) from None
+    if len(shape) != 2 or 0 in shape:
+        raise InvalidInputError(
+            f"problems must have shape (B, ndof) with B, ndof >= 1, got {shape}"
+        )
+    return tuple(np.broadcast_to(a, shape) for a in arrays)
+
+
+def trapezoidal(
+    q0: ArrayLike,
+    qf: ArrayLike,
+    vmax: LimitSpec,
+    amax: LimitSpec,
+    *,
+    v0: ArrayLike = 0.0,
+    vf: ArrayLike = 0.0,
+    sync: Sync = "time",
+    dt: float | None = None,
+) -> BatchTrajectory:
+    """Time-optimal trapezoid profiles for ``B`` problems at once.
+
+    Same meaning as :func:`trajkit.trapezoidal` (limit mode), with every argument
+    of shape ``(B, ndof)`` or broadcastable to it (limits may be per joint
+    ``(ndof,)``, per problem, or a ``(lower, upper)`` tuple of such arrays).
+
+    Returns
+    -------
+    BatchTrajectory
+        ``durations`` (B,); ``info`` with ``minimum_durations`` (B, ndof),
+        ``limiting_joint`` (B,; -1 under phase sync), ``phase_times`` (B, ndof, 3),
+        ``peak_velocity`` (B, ndof), ``accelerations`` (B, ndof, 2).
+    """
+    start, end, start_v, end_v = _problems(q0, qf, v0, vf)
+    shape = start.shape
+    vpos, vneg = _limit_pair("vmax", vmax, shape, "rad/s")
+    apos, aneg = _limit_pair("amax", amax, shape, "rad/s^2")
+    sync = _read_sync(sync)
+    for name, values in (("v0", start_v), ("vf", end_v)):
+        beyond = (values > vpos) | (values < -vneg)
+        if beyond.any():
+            b, j = np.argwhere(beyond)[0]
+            raise InfeasibleError(
+                f"{name}={values[b, j]:.6g} rad/s is beyond the velocity limit "
+                f"(problem {b}, joint {j + 1})"
+            )
+    args = (end - start, start_v, end_v, vpos, vneg, apos, aneg)
+    solution: TrapezoidSolution = solve_trapezoid(*args, sync=sync)
+    step = None
+    if dt is not None:
+        step = positive_scalar("dt", dt, unit="s")
+        solution = quantize_trapezoid(solution, step, args, sync)
+    durations = np.broadcast_to(solution.duration, shape[:1]).copy()
+
+    def plan() -> PhasePlan:
+        return PhasePlan(
+            np.array(start), np.array(start_v), solution.times, solution.accelerations,
+            np.zeros_like(solution.times),
+        )  # fmt: skip
+
+    def info() -> dict[str, Any]:
+        return {
+            "planner": "trapezoidal",
+            "sync": sync,
+            "dt": step,
+            "minimum_durations": solution.own,
+            "limiting_joint": solution.limiting,
+            "phase_times": solution.times,
+            "peak_velocity": solution.peak_velocity,
+            "accelerations": solution.accelerations[..., [0, 2]],
+        }
+
+    return BatchTrajectory(durations, plan, info)
