@@ -9,6 +9,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
+from trajkit import batch
 from trajkit.errors import (
     ContinuityWarning,
     InfeasibleError,
@@ -18,6 +19,7 @@ from trajkit.errors import (
 )
 from trajkit.limits import Limits, Report, Violation, check
 from trajkit.profiles import (
+    blended,
     cubic,
     cubic_spline,
     cubic_via,
@@ -25,6 +27,7 @@ from trajkit.profiles import (
     quintic,
     quintic_via,
     septic,
+    trapezoidal,
 )
 from trajkit.samples import Samples
 from trajkit.trajectory import Extrema, State, Trajectory
@@ -45,6 +48,8 @@ __all__ = [
     "UnreachableError",
     "Violation",
     "__version__",
+    "batch",
+    "blended",
     "check",
     "cubic",
     "cubic_spline",
@@ -54,6 +59,7 @@ __all__ = [
     "quintic",
     "quintic_via",
     "septic",
+    "trapezoidal",
 ]
 
 # Submodules that pull in heavy libraries (matplotlib) load on first use only.

@@ -349,7 +349,7 @@ def moving_boundary_problems(draw: st.DrawFn, derivatives: int):
         limits["amax"] = draw(support.joint_arrays(ndof, st.floats(0.1, 10.0)))
     assume(np.any(v0) or np.any(vf))
     # With D = 0 on every joint and only vmax, the velocity shape does not depend on the
-    # duration, so no positive minimum exists (see test_unbounded_minimum_duration_...).
+    # duration, so no positive minimum exists (see test_unbounded_minimum_duration_is_refused).
     # (A distance of 1e-300 is the same degenerate case, hence the 1e-3.)
     assume(np.any(np.abs(qf - q0) > 1e-3) or "amax" in limits)
     return {"q0": q0, "qf": qf, "v0": v0, "vf": vf}, limits
@@ -405,10 +405,11 @@ def test_limiting_names_a_given_limit():
     reason="BUG: when the limits do not bound the duration from below, the scan's floor "
     "leaks out as a 1e-12 s trajectory instead of an InfeasibleError",
 )
-def test_unbounded_minimum_duration_is_refused_like_an_identical_state():
+def test_unbounded_minimum_duration_is_refused():
     # q0 == qf and only vmax: the velocity profile v0 * h'(t / T) is the same for every T,
-    # so every T > 0 is feasible and there is no shortest one (the identical-state case,
-    # which raises InfeasibleError, is the same situation with v0 = 0).
+    # so every T > 0 is feasible and there is no shortest one. The infimum 0 cannot be
+    # taken either (unlike the standstill at rest): the velocity would jump 0.5 -> 0.
+    # trajkit returns duration 1e-12 s with acceleration ~1e12 rad/s^2 instead.
     with pytest.raises(tk.InfeasibleError):
         tk.cubic(0.0, 0.0, v0=0.5, vmax=1.0)
 
@@ -474,10 +475,20 @@ def test_boundary_velocity_at_its_limit_is_allowed():
 
 
 @pytest.mark.parametrize("planner", list(PLANNERS))
-def test_identical_start_and_end_with_limits_only_is_infeasible(planner):
-    with pytest.raises(tk.InfeasibleError, match="identical") as raised:
-        _call(planner, {"q0": [0.5, 1.0], "qf": [0.5, 1.0]}, vmax=1.0)
-    assert "duration" in str(raised.value)
+def test_identical_start_and_end_with_limits_only_is_a_zero_duration_standstill(planner):
+    # Nothing moves and the limits ask for no time (commit edf6ad3 replaced the former
+    # InfeasibleError by a zero-duration standstill).
+    tr = _call(planner, {"q0": [0.5, -1.0], "qf": [0.5, -1.0]}, vmax=1.0, amax=[2.0, 3.0])
+    assert tr.duration == 0.0
+    np.testing.assert_array_equal(tr.breakpoints, [0.0, 0.0])
+    assert tr.degree == 2 * PLANNERS[planner][1] - 1
+    assert tr.info["duration"] == 0.0
+    assert tr.info["minimum_durations"] == (0.0, 0.0)
+    t = np.array([-1.0, 0.0, 1.0])  # clamped to the single instant
+    np.testing.assert_array_equal(tr.position(t), np.tile([0.5, -1.0], (3, 1)))
+    for order in (1, 2, 3):
+        np.testing.assert_array_equal(tr.evaluate(t, order), np.zeros((3, 2)))
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=[2.0, 3.0])).ok
 
 
 # ------------------------------------------------------------------------------ bad input

@@ -1,6 +1,18 @@
-"""Time laws: polynomial moves, via-point interpolation (and, later, limit-driven profiles)."""
+"""Time laws: polynomial moves, via-point interpolation, limit-driven profiles."""
 
+from trajkit.profiles.blend import blended
 from trajkit.profiles.polynomial import cubic, polynomial, quintic, septic
+from trajkit.profiles.trapezoidal import trapezoidal
 from trajkit.profiles.via import cubic_spline, cubic_via, quintic_via
 
-__all__ = ["cubic", "cubic_spline", "cubic_via", "polynomial", "quintic", "quintic_via", "septic"]
+__all__ = [
+    "blended",
+    "cubic",
+    "cubic_spline",
+    "cubic_via",
+    "polynomial",
+    "quintic",
+    "quintic_via",
+    "septic",
+    "trapezoidal",
+]
