@@ -137,15 +137,19 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     status, out, err = run(capsys, "demo", "--out", str(out_dir))
     assert status == 0, err
     names = sorted(p.name for p in out_dir.iterdir())
-    assert names == sorted(
-        [
-            "seed000_cubic.csv", "seed000_cubic.png",
-            "seed003_line.csv", "seed003_line.png",
-            "seed004_example1.csv", "seed004_example1.png",
-            "seed004_example2.csv", "seed004_example2.png",
-            "summary.txt",
-        ]
-    )  # fmt: skip
+    expected = {
+        "seed000_cubic.csv", "seed000_cubic.png",
+        "seed003_line.csv", "seed003_line.png",
+        "seed004_example1.csv", "seed004_example1.png",
+        "seed004_example2.csv", "seed004_example2.png",
+        "summary.txt",
+    }  # fmt: skip
+    for stem in ("trapezoid_phase", "trapezoid_time", "trapezoid_phase_dt", "trapezoid_time_dt"):
+        expected |= {f"seed001_{stem}.png", f"seed001_{stem}.csv"}
+    for stem in ("rotate1", "drive", "rotate2"):
+        expected |= {f"seed000_jackal_{stem}.png", f"seed000_jackal_{stem}.csv"}
+    assert set(names) == expected
+    assert not [name for name in names if name.startswith(".")]  # no temporaries left
     assert "piece 1: [0, 0, 1.3, -0.8]" in out
     assert "piece 2: [0.55, -0.375, 0.4, -0.075]" in out
     assert "exact common minimum duration 11.1666666667 s" in out
@@ -153,5 +157,52 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     summary = (out_dir / "summary.txt").read_text()
     assert "piece 2: [0.55, -0.375, 0.4, -0.075]" in summary
     assert f"wrote {len(names)} files" in out
+    assert "sync=phase, continuous: duration 14.6071428571 s, limits OK" in out
+    assert "sync=phase, dt 2 ms: duration 14.608 s, limits OK" in out
+    assert "drive sqrt(34) m: minimum duration 32.3941772 s" in out
+    assert "the hand value 32 s breaks the limit" in out
     seed000 = tk.Samples.from_csv(out_dir / "seed000_cubic.csv")
     assert seed000.t[-1] == pytest.approx(11.1666666666666667, rel=1e-12)
+
+
+def test_plan_trapezoid_phase_sync_on_controller_period(capsys, tmp_path):
+    csv = tmp_path / "six.csv"
+    status, out, err = run(
+        capsys, "plan", "trapezoid", "--q0", "0", "--qf", "90,75,60,45,30,15",
+        "--vmax", "7,7,7,3.5,3.5,3.5", "--amax", "4,4,4,2,2,2", "--deg",
+        "--sync", "phase", "--dt", "0.002", "--csv", str(csv),
+    )  # fmt: skip
+    assert status == 0, err
+    first = out.splitlines()[0]
+    assert first == (
+        "trapezoid move: 6 joint(s), duration 14.608 s, sync=phase, "
+        "switching on multiples of dt=0.002 s"
+    )
+    assert "1.75 11.108 1.75" in out  # every joint's rise, coast and fall
+    assert "limit check (SI units): OK" in out
+    samples = tk.Samples.from_csv(csv)
+    np.testing.assert_allclose(np.diff(samples.t), 0.002, rtol=1e-9)
+
+
+def test_plan_trapezoid_time_sync_names_limiting_joint(capsys):
+    status, out, _ = run(
+        capsys, "plan", "trapezoid", "--q0", "0,0", "--qf", "1,3", "--vmax", "1", "--amax", "1"
+    )
+    assert status == 0
+    assert "duration 4 s (set by joint 2), sync=time" in out
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--vmax", "1"], "trapezoidal needs vmax and amax"),
+        (["--vmax", "1", "--amax", "1", "--jmax", "3"], "--jmax does not apply to a trapezoid"),
+        (["--vmax", "1", "--amax", "1", "--duration", "0.5"], "below the minimum 2 s"),
+        (["--vmax", "1", "--amax", "1", "--v0", "2"], "v0=2 rad/s is beyond the velocity limit"),
+    ],
+)
+def test_plan_trapezoid_errors(argv, message, capsys):
+    status, out, err = run(capsys, "plan", "trapezoid", "--q0", "0", "--qf", "1", *argv)
+    assert status == 2
+    assert message in err
+    assert err.count("\n") == 1

@@ -17,12 +17,27 @@ import trajkit
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import staged_files
 from trajkit.limits import Limits
-from trajkit.profiles import cubic, quintic, septic
+from trajkit.profiles import cubic, quintic, septic, trapezoidal
 from trajkit.trajectory import Trajectory
 
 __all__ = ["main"]
 
 EXIT_USAGE = 2
+DEFAULT_SAMPLE_PERIOD = 0.002  # s, a common robot controller period
+
+# Each profile and the optional arguments it takes (besides q0, qf, duration, limits).
+PROFILES: dict[str, frozenset[str]] = {
+    "cubic": frozenset(),
+    "quintic": frozenset({"a0"}),
+    "septic": frozenset({"a0"}),
+    "trapezoid": frozenset({"sync"}),
+}
+for _name in ("cubic", "quintic", "septic"):
+    PROFILES[_name] |= {"jmax"}
+
+
+def _planner(profile: str) -> Callable[..., Trajectory]:
+    return {"cubic": cubic, "quintic": quintic, "septic": septic, "trapezoid": trapezoidal}[profile]
 
 
 class CommandError(Exception):
@@ -67,10 +82,11 @@ def _build_parser() -> _Parser:
     plan = commands.add_parser(
         "plan",
         help="plan one joint-space move and print its summary",
-        description="Plan a polynomial move for one or more joints. Lists are given as "
-        "'0 1.5' or '0,1.5'; a single number applies to every joint.",
+        description="Plan a move for one or more joints and print its plan and limit "
+        "check. Lists are given as '0 1.5' or '0,1.5'; a single number applies to every "
+        "joint.",
     )
-    plan.add_argument("profile", choices=["cubic", "quintic", "septic"], help="time law")
+    plan.add_argument("profile", choices=sorted(PROFILES), help="time law")
     _add_vector(plan, "--q0", "start positions (rad, or deg with --deg)")
     _add_vector(plan, "--qf", "end positions")
     plan.add_argument(
@@ -85,7 +101,16 @@ def _build_parser() -> _Parser:
     _add_vector(plan, "--jmax", "jerk limits")
     plan.add_argument("--deg", action="store_true", help="angles and limits in degrees")
     plan.add_argument(
-        "--dt", type=float, default=0.002, help="sampling period for --csv (s, default 0.002)"
+        "--sync",
+        choices=["time", "phase", "none"],
+        default="time",
+        help="trapezoid/scurve: finish together (time), move on a line (phase), or not",
+    )
+    plan.add_argument(
+        "--dt",
+        type=float,
+        help="controller period in s: trapezoid/scurve switching times become multiples of "
+        "it; also the --csv sampling period (default 0.002)",
     )
     plan.add_argument("--csv", type=Path, help="write samples (SI units) to this CSV file")
     plan.add_argument("--plot", type=Path, help="write a profile plot (.png, .svg or .pdf)")
@@ -129,26 +154,33 @@ def _plan(args: argparse.Namespace) -> int:
     kwargs: dict[str, object] = {
         "vmax": si(args.vmax),
         "amax": si(args.amax),
-        "jmax": si(args.jmax),
         "v0": si(args.v0) if args.v0 else 0.0,
         "vf": si(args.vf) if args.vf else 0.0,
     }
-    if args.profile == "cubic":
-        if args.a0 or args.af:
-            raise CommandError("--a0/--af need a quintic or septic profile")
-        planner = cubic
-    else:
-        planner = quintic if args.profile == "quintic" else septic
+    accepts = PROFILES[args.profile]
+    if (args.a0 or args.af) and "a0" not in accepts:
+        raise CommandError(f"--a0/--af need a quintic or septic profile, not {args.profile}")
+    if args.jmax and "jmax" not in accepts:
+        raise CommandError(f"--jmax does not apply to a {args.profile} profile")
+    if "a0" in accepts:
         kwargs["a0"] = si(args.a0) if args.a0 else 0.0
         kwargs["af"] = si(args.af) if args.af else 0.0
-    trajectory = planner(si(args.q0), si(args.qf), args.duration, **kwargs)
-    limits = Limits(velocity=kwargs["vmax"], acceleration=kwargs["amax"], jerk=kwargs["jmax"])
+    if "jmax" in accepts:
+        kwargs["jmax"] = si(args.jmax)
+    if "sync" in accepts:
+        kwargs["sync"] = None if args.sync == "none" else args.sync
+        kwargs["dt"] = args.dt
+    elif args.sync != "time":
+        raise CommandError(f"--sync applies to trapezoid and scurve profiles, not {args.profile}")
+    planner = _planner(args.profile)
+    trajectory = planner(si(args.q0), si(args.qf), duration=args.duration, **kwargs)
+    limits = Limits(velocity=kwargs["vmax"], acceleration=kwargs["amax"], jerk=kwargs.get("jmax"))
     if args.plot is not None and args.plot.suffix.lower() not in {".png", ".svg", ".pdf"}:
         raise CommandError(f"--plot must end in .png, .svg or .pdf, got {args.plot.name!r}")
     summary = _summary(trajectory, limits, args.profile, unit, to_si)
     with staged_files() as stage:
         if args.csv is not None:
-            trajectory.sample(args.dt).to_csv(stage.path(args.csv))
+            trajectory.sample(args.dt or DEFAULT_SAMPLE_PERIOD).to_csv(stage.path(args.csv))
         if args.plot is not None:
             from trajkit.plot import profiles, save
 
@@ -163,14 +195,20 @@ def _plan(args: argparse.Namespace) -> int:
 def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to_si: float) -> str:
     info = trajectory.info
     lines = [f"{profile} move: {trajectory.ndof} joint(s), duration {trajectory.duration:.9g} s"]
-    if "limiting_joint" in info:
-        lines[0] += f" (set by {info['limiting']} of joint {info['limiting_joint'] + 1})"
+    if info.get("limiting_joint") is not None:
+        what = f"{info['limiting']} of " if "limiting" in info else ""
+        lines[0] += f" (set by {what}joint {info['limiting_joint'] + 1})"
+    if info.get("sync"):
+        lines[0] += f", sync={info['sync']}"
+    if info.get("dt"):
+        lines[0] += f", switching on multiples of dt={info['dt']:g} s"
     start, end = trajectory.start_state, trajectory.end_state
     peaks = [trajectory.extrema(order).peak / to_si for order in (1, 2)]
     own = info.get("minimum_durations")
-    header = f"{'joint':>5} {'q0':>12} {'qf':>12} {'peak |v|':>12} {'peak |a|':>12}" + (
-        f" {'own min [s]':>12}" if own else ""
-    )
+    phases = info.get("phase_times")
+    header = f"{'joint':>5} {'q0':>12} {'qf':>12} {'peak |v|':>12} {'peak |a|':>12}"
+    header += f" {'own min [s]':>12}" if own else ""
+    header += "  phase times [s]" if phases else ""
     lines += [
         f"units: positions {unit}, velocities {unit}/s, accelerations {unit}/s^2",
         header,
@@ -182,6 +220,8 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
         )
         if own:
             row += f" {own[j]:>12.6g}"
+        if phases:
+            row += "  " + " ".join(f"{t:.6g}" for t in phases[j])
         lines.append(row)
     if any(getattr(limits, q) is not None for q in ("velocity", "acceleration", "jerk")):
         report = trajectory.check(limits)

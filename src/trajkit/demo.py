@@ -104,10 +104,68 @@ def seed003_task_space_line(out: Path, stage: StagedFiles, log: Log) -> None:
     trajectory.sample(0.01, unit="m").to_csv(stage.path(out / "seed003_line.csv"))
 
 
+def seed001_six_joint_synchronization(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 001: six joints, trapezoids, synchronized, continuous and on a 2 ms period."""
+    q0 = np.zeros(6)
+    qf = np.radians([90.0, 75.0, 60.0, 45.0, 30.0, 15.0])
+    vmax = np.radians([7.0, 7.0, 7.0, 3.5, 3.5, 3.5])
+    amax = np.radians([4.0, 4.0, 4.0, 2.0, 2.0, 2.0])
+    limits = tk.Limits(velocity=vmax, acceleration=amax)
+    names = [f"joint {j + 1}" for j in range(6)]
+    for label, kwargs in (("continuous", {}), ("dt 2 ms", {"dt": 0.002})):
+        for sync in ("phase", "time"):
+            trajectory = tk.trapezoidal(q0, qf, vmax, amax, sync=sync, **kwargs)
+            report = trajectory.check(limits)
+            log(
+                f"seed 001 trapezoids, sync={sync}, {label}: duration "
+                f"{trajectory.duration:.12g} s, limits {'OK' if report.ok else 'VIOLATED'}"
+            )
+            v = np.degrees(trajectory.info["peak_velocity"])
+            a = np.degrees([acc[0] for acc in trajectory.info["accelerations"]])
+            log("  peak velocity [deg/s]: " + ", ".join(f"{x:.6g}" for x in v))
+            log("  acceleration [deg/s^2]: " + ", ".join(f"{x:.6g}" for x in a))
+            stem = f"seed001_trapezoid_{sync}" + ("_dt" if kwargs else "")
+            figure = tk.plot.profiles(
+                trajectory, limits, degrees=True, names=names,
+                title=f"Seed 001: sync={sync}, {label}, {trajectory.duration:.6g} s",
+            )  # fmt: skip
+            tk.plot.save(figure, stage.path(out / f"{stem}.png"))
+            trajectory.sample(0.002).to_csv(stage.path(out / f"{stem}.csv"))
+
+
+def seed000_wheeled_lspb(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 000 §2.1: rotate to face (5, 3), drive there, rotate to 1.5 rad; blend 0.1."""
+    heading = float(np.arctan2(3.0, 5.0))
+    omega, speed = np.radians(30.0), 0.2
+    phases = (
+        ("rotate to face (5, 3)", heading, omega, "rad/s", 1.2),
+        ("drive sqrt(34) m", float(np.sqrt(34.0)), speed, "m/s", 32.0),
+        ("rotate to 1.5 rad", 1.5 - heading, omega, "rad/s", 2.02),
+    )
+    moves = []
+    for name, distance, limit, unit, hand in phases:
+        move = tk.trapezoidal(0.0, distance, limit, blend_ratio=0.1)
+        peak = float(move.extrema(1).peak[0])
+        verdict = "breaks" if hand < move.duration * (1 - 1e-12) else "keeps"
+        log(
+            f"seed 000 wheeled robot, {name}: minimum duration {move.duration:.9g} s "
+            f"(peak {peak:.6g} {unit} at limit {limit:.6g}); the hand value {hand:g} s "
+            f"{verdict} the limit"
+        )
+        moves.append(move)
+    for move, (name, *_), stem in zip(moves, phases, ("rotate1", "drive", "rotate2"), strict=True):
+        unit = "m" if stem == "drive" else "rad"
+        figure = tk.plot.profiles(move, unit=unit, names=[stem], title=f"Seed 000: {name}")
+        tk.plot.save(figure, stage.path(out / f"seed000_jackal_{stem}.png"))
+        move.sample(0.01, unit=unit).to_csv(stage.path(out / f"seed000_jackal_{stem}.csv"))
+
+
 EXAMPLES: tuple[Callable[[Path, StagedFiles, Log], None], ...] = (
     seed004_via_point_polynomials,
     seed000_two_joint_cubic,
     seed003_task_space_line,
+    seed001_six_joint_synchronization,
+    seed000_wheeled_lspb,
 )
 
 

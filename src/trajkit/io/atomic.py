@@ -38,12 +38,27 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], None
     try:
         with handle:
             write(handle)
+        os.chmod(handle.name, _mode_for(target))
         os.replace(handle.name, target)
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(handle.name)
         raise
     return target
+
+
+def _mode_for(target: Path) -> int:
+    """Permissions the file would have had if opened normally.
+
+    An existing file keeps its mode; a new one gets ``0o666`` less the umask
+    (tempfile creates files as 0600).
+    """
+    try:
+        return target.stat().st_mode & 0o7777
+    except FileNotFoundError:
+        mask = os.umask(0)
+        os.umask(mask)
+        return 0o666 & ~mask
 
 
 class StagedFiles:
@@ -100,4 +115,5 @@ def staged_files() -> Iterator[StagedFiles]:
                 os.unlink(temporary)
         raise
     for temporary, target in stage._pending:
+        os.chmod(temporary, _mode_for(target))
         os.replace(temporary, target)

@@ -33,7 +33,6 @@ __all__ = ["cubic", "hermite_pieces", "polynomial", "quintic", "septic"]
 _LIMIT_NAMES = ("vmax", "amax", "jmax")
 _LIMIT_UNITS = ("rad/s", "rad/s^2", "rad/s^3")
 _BOUNDARY_NAMES = (("q0", "v0", "a0", "j0"), ("qf", "vf", "af", "jf"))
-_SCAN_POINTS = 400  # durations tried per decade sweep before bisection (see _minimum_duration)
 
 
 @cache
@@ -104,14 +103,15 @@ def hermite_pieces(start: FloatArray, end: FloatArray, durations: FloatArray) ->
 def _peak_ratios(
     start: FloatArray, end: FloatArray, durations: FloatArray, limits: list[FloatArray | None]
 ) -> FloatArray:
-    """Largest ``|derivative| / limit`` over each move, shape ``(len(durations), orders, ndof)``.
+    """Largest ``|derivative| / limit`` over each move, shape ``(len(durations), 3, ndof)``.
 
-    ``start``/``end`` have shape (n, ndof); ``durations`` shape (T,).
+    ``start``/``end`` have shape (n, ndof); ``durations`` shape (T,). Orders
+    without a limit get ``-inf``, so they never count as binding.
     """
     ndof = start.shape[1]
     T = durations[:, np.newaxis]
     c = hermite_pieces(start[:, np.newaxis, :], end[:, np.newaxis, :], T)  # (2n, T, ndof)
-    ratios = np.zeros((durations.size, len(limits), ndof))
+    ratios = np.full((durations.size, len(limits), ndof), -np.inf)
     for index, limit in enumerate(limits):
         if limit is None:
             continue
@@ -132,16 +132,14 @@ def _minimum_duration(
     that binds at the common minimum.
 
     At rest at both ends the peaks scale as ``|D| / T**r`` and the minimum is closed
-    form. Otherwise feasibility need not be monotonic in ``T``; the smallest
-    feasible duration on a logarithmic scan is refined by bisection to 1e-13
-    relative (a joint's own minimum likewise).
+    form. Otherwise see :func:`_search_minimum`.
     """
     rest = not np.any(start[1:]) and not np.any(end[1:])
     n = start.shape[0]
     if rest:
         distance = np.abs(end[0] - start[0])
         unit_peaks = _unit_rest_peaks(n)
-        per_limit = np.zeros((len(limits), start.shape[1]))
+        per_limit = np.full((len(limits), start.shape[1]), -np.inf)
         for index, limit in enumerate(limits):
             if limit is not None:
                 r = index + 1
@@ -151,13 +149,13 @@ def _minimum_duration(
         return float(own[joint]), own, int(np.argmax(per_limit[:, joint])), joint
     own = np.array(
         [
-            _scan_minimum(
+            _search_minimum(
                 start[:, [j]], end[:, [j]], [None if x is None else x[[j]] for x in limits]
             )
             for j in range(start.shape[1])
         ]
     )
-    common = _scan_minimum(start, end, limits, lower=float(own.max()))
+    common = _search_minimum(start, end, limits, lower=float(own.max()))
     ratios = _peak_ratios(start, end, np.array([common]), limits)[0]
     binding, joint = np.unravel_index(int(np.argmax(ratios)), ratios.shape)
     return common, own, int(binding), int(joint)
@@ -178,14 +176,69 @@ def _unit_rest_peaks(derivatives: int) -> tuple[float, ...]:
     return tuple(peaks)
 
 
-def _scan_minimum(
+def _endpoint_crossings(
+    start: FloatArray, end: FloatArray, limits: list[FloatArray | None]
+) -> FloatArray:
+    """Durations at which a derivative at either end of the move equals +-its limit.
+
+    At ``u = t / T`` fixed, the ``r``-th time derivative is ``sum_i k_i T**(i - r)``
+    (boundary value ``i`` enters scaled by ``T**i``), so "value = +-L" is a
+    polynomial equation in ``T``. Feasible windows bounded by an end value start
+    and stop exactly at these roots.
+    """
+    n, ndof = start.shape
+    inverse = _hermite_inverse(n)  # coefficients (highest first) per boundary value
+    degree = 2 * n - 1
+    powers = np.arange(degree, -1, -1)
+    found = [np.empty(0)]
+    for index, limit in enumerate(limits):
+        if limit is None:
+            continue
+        r = index + 1
+        falling = np.array([factorial(p) // factorial(p - r) if p >= r else 0 for p in powers])
+        for u in (0.0, 1.0):
+            basis = np.array([falling[k] * u ** max(powers[k] - r, 0) for k in range(degree + 1)])
+            weight = basis @ inverse  # d^r p / du^r at u per boundary value
+            for j in range(ndof):
+                values = np.concatenate([start[:, j], end[:, j]])
+                k = np.zeros(n)
+                for i in range(2 * n):
+                    k[i % n] += weight[i] * values[i]  # coefficient of T**(i % n)
+                for sign in (1.0, -1.0):
+                    poly = np.zeros(max(n, r + 1))
+                    poly[:n] += k
+                    poly[r] -= sign * limit[j]
+                    roots = np.roots(poly[::-1]) if np.any(poly) else np.empty(0)
+                    real = roots[np.abs(roots.imag) <= 1e-9 * np.abs(roots)].real
+                    found.append(real[real > 0])
+    return np.concatenate(found)
+
+
+_SCAN_DECADES = 12  # the scan covers [high * 1e-12, high]
+
+
+def _search_minimum(
     start: FloatArray, end: FloatArray, limits: list[FloatArray | None], lower: float = 0.0
 ) -> float:
-    """Smallest feasible duration >= ``lower`` (scan then bisection)."""
+    """Smallest feasible duration >= ``lower`` when the ends are not at rest.
+
+    Feasibility need not be monotonic in ``T`` (a window of durations may work
+    around the one that makes the move a straight line), so the candidates are the
+    exact durations where an end value meets a limit (:func:`_endpoint_crossings`)
+    and a dense logarithmic scan; the first feasible candidate is refined by
+    bisection against its predecessor to 1e-13 relative. A window bounded only by
+    interior peaks and narrower than the scan's spacing (0.6 %) can be missed.
+
+    Raises
+    ------
+    InfeasibleError
+        No duration works, or every duration down to the scan's floor works (the
+        limits do not bound the duration from below).
+    """
 
     def feasible(durations: FloatArray) -> FloatArray:
         ratios = _peak_ratios(start, end, durations, limits)
-        return ratios.reshape(durations.size, -1).max(axis=1) <= 1.0
+        return ratios.reshape(durations.size, -1).max(axis=1) <= 1.0 + 1e-12
 
     high = max(lower, 1e-6)
     for _ in range(200):
@@ -194,19 +247,29 @@ def _scan_minimum(
         high *= 2.0
     else:
         raise InfeasibleError(
-            "no duration up to 1e60 s keeps the move within the limits; "
-            "check the boundary velocities and accelerations against the limits"
+            "no duration keeps the move within the limits; check the boundary velocities "
+            "and accelerations against the limits"
         )
-    low = lower if lower > 0 else high * 1e-6
-    if low >= high:
-        return high
-    grid = np.geomspace(low, high, _SCAN_POINTS)
-    ok = feasible(grid)
+    floor = lower if lower > 0 else high * 10.0**-_SCAN_DECADES
+    candidates = np.concatenate(
+        [
+            np.geomspace(floor, high, 400 * _SCAN_DECADES // 2),
+            _endpoint_crossings(start, end, limits),
+            [floor, high],
+        ]
+    )
+    candidates = np.unique(candidates[(candidates >= floor) & (candidates <= high)])
+    ok = feasible(candidates)
     first = int(np.argmax(ok))
     if first == 0:
-        return float(grid[0])
-    a, b = grid[first - 1], grid[first]
-    for _ in range(100):
+        if lower > 0:
+            return float(candidates[0])
+        raise InfeasibleError(
+            "the limits do not bound the duration from below (the move stays within "
+            "them however fast it is); give a duration"
+        )
+    a, b = candidates[first - 1], candidates[first]
+    for _ in range(200):
         middle = 0.5 * (a + b)
         if feasible(np.array([middle]))[0]:
             b = middle
@@ -611,7 +674,18 @@ def _derivative_row(degree: int, order: int, x: float) -> FloatArray:
 
 
 def _solve_square(A: FloatArray, b: FloatArray) -> FloatArray:
-    """Solve ``A a = b``, naming the trouble when ``A`` is singular."""
+    """Solve ``A a = b``, naming the trouble when ``A`` is singular.
+
+    Rows and columns are scaled to unit largest entry first: powers of long or
+    short segments span many decades, and an unscaled rank test would call a
+    well-posed 1000 s quintic singular.
+    """
+    column_scale = np.abs(A).max(axis=0)
+    column_scale[column_scale == 0] = 1.0
+    A = A / column_scale
+    row_scale = np.abs(A).max(axis=1)
+    row_scale[row_scale == 0] = 1.0
+    A, b = A / row_scale[:, np.newaxis], b / row_scale[:, np.newaxis]
     singular_values = np.linalg.svd(A, compute_uv=False)
     if singular_values[-1] <= 1e-12 * singular_values[0]:
         solution, *_ = np.linalg.lstsq(A, b, rcond=None)
@@ -626,4 +700,4 @@ def _solve_square(A: FloatArray, b: FloatArray) -> FloatArray:
             f"the system is singular: the conditions {what}; "
             f"rank {int(np.sum(singular_values > 1e-12 * singular_values[0]))} of {A.shape[0]}"
         )
-    return np.linalg.solve(A, b)
+    return np.linalg.solve(A, b) / column_scale[:, np.newaxis]
