@@ -180,7 +180,9 @@ def _plan(args: argparse.Namespace) -> int:
     summary = _summary(trajectory, limits, args.profile, unit, to_si)
     with staged_files() as stage:
         if args.csv is not None:
-            trajectory.sample(args.dt or DEFAULT_SAMPLE_PERIOD).to_csv(stage.path(args.csv))
+            trajectory.sample(DEFAULT_SAMPLE_PERIOD if args.dt is None else args.dt).to_csv(
+                stage.path(args.csv)
+            )
         if args.plot is not None:
             from trajkit.plot import profiles, save
 
