@@ -302,6 +302,18 @@ def test_evaluate_refuses_bad_times(t: object, match: str) -> None:
         tr.evaluate(t)
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="BUG: evaluate() converts t with np.asarray(t, dtype=float64) unguarded: a "
+    "non-numeric t raises numpy's bare ValueError/TypeError, not InvalidInputError naming t",
+)
+@pytest.mark.parametrize("t", ["abc", ["a", "b"], [1 + 2j], object()])
+def test_evaluate_refuses_non_numeric_times(t: object) -> None:
+    tr = cubic_rest_to_rest([0.0], [1.0], 1.0)
+    with _raises_invalid(r"^t must"):
+        tr.evaluate(t)  # type: ignore[arg-type]
+
+
 @pytest.mark.parametrize("order", [-1, 1.5, True, "1", None])
 def test_evaluate_refuses_bad_orders(order: object) -> None:
     tr = cubic_rest_to_rest([0.0], [1.0], 1.0)
@@ -662,10 +674,21 @@ def test_then_algebra(data: st.DataObject) -> None:
         joined = a.then(b)
     time_scale = max(abs(a.start_time), abs(a.end_time), abs(b.start_time), abs(b.end_time))
     assert joined.duration == pytest.approx(
-        a.duration + b.duration, rel=0, abs=8e-16 * 8 * time_scale
+        a.duration + b.duration, rel=0.0, abs=ROUNDING * (1.0 + time_scale)
     )
     assert joined.start_time == a.start_time
+    assert joined.degree == max(a.degree, b.degree)
     offset = a.end_time - b.start_time
+    # Breakpoints: a's unchanged, then b's shifted so that b starts at a's end.
+    m = len(a.breakpoints)
+    assert len(joined.breakpoints) == m + len(b.breakpoints) - 1
+    np.testing.assert_array_equal(joined.breakpoints[:m], a.breakpoints)
+    np.testing.assert_allclose(
+        joined.breakpoints[m:],
+        b.breakpoints[1:] + offset,
+        rtol=0.0,
+        atol=ROUNDING * (1.0 + time_scale),
+    )
     # On a's span (before the junction) the joined trajectory is a, bit for bit.
     bp_a = a.breakpoints
     t_a = np.array(

@@ -316,12 +316,17 @@ def _direction_limits(D, vpos, vneg, apos, aneg):
     )
 
 
-def rest_minimum_time(D, vpos, vneg, apos, aneg) -> FloatArray:
-    """Shortest duration of moves at rest at both ends.
+def rest_plan(D, vpos, vneg, apos, aneg):
+    """Shortest durations of moves at rest at both ends, and their phases for any ``T``.
 
     The rise and fall at full acceleration cover ``k vp^2`` with
-    ``k = 1/(2 A_rise) + 1/(2 A_fall)``; the peak is ``vp = min(V, sqrt(d / k))``
-    and the duration ``k vp + d / vp`` (``2 sqrt(k d)`` for a triangle).
+    ``k = 1/(2 A_rise) + 1/(2 A_fall)``. Fastest: ``vp = min(V, sqrt(d / k))`` and
+    the duration ``k vp + d / vp``. Exactly ``T`` (time synchronization): the
+    lowest peak speed that fits, ``vp = 2 d / (T + sqrt(T^2 - 4 k d))`` (the
+    gentlest profile; at the minimum duration, the fastest one).
+
+    Returns ``(durations, phases_at)``; ``phases_at(T)`` gives :class:`RestPhases`.
+    The shared terms are computed once: this is the batch planner's hot path.
     """
     speed, rise, fall = _direction_limits(D, vpos, vneg, apos, aneg)
     d = np.abs(D)
@@ -330,7 +335,17 @@ def rest_minimum_time(D, vpos, vneg, apos, aneg) -> FloatArray:
     np.minimum(vp, speed, out=vp)
     duration = np.divide(d, vp, out=np.zeros_like(vp), where=vp > 0)
     duration += k * vp
-    return duration
+
+    def phases_at(T: FloatArray) -> RestPhases:
+        root = T * T - 4.0 * k * d
+        np.maximum(root, 0.0, out=root)
+        np.sqrt(root, out=root)
+        root += T
+        peak = np.divide(2.0 * d, root, out=np.zeros_like(root), where=root > 0)
+        np.minimum(peak, speed, out=peak)  # rounding at the minimum duration
+        return RestPhases(D, peak, rise, fall, np.broadcast_to(T, peak.shape))
+
+    return duration, phases_at
 
 
 class RestPhases:
@@ -380,21 +395,9 @@ class RestPhases:
     def duration(self) -> FloatArray:
         return self.t1 + self.t2 + self.t3
 
-
-def rest_to_rest(D, vpos, vneg, apos, aneg, T) -> RestPhases:
-    """Phases of moves at rest at both ends taking exactly ``T`` >= the minimum.
-
-    Accelerations at the limits and the lowest peak speed that fits (the gentlest
-    profile): ``vp = 2 d / (T + sqrt(T^2 - 4 k d))``; at the minimum duration
-    this is the fastest profile itself.
-    """
-    speed, rise, fall = _direction_limits(D, vpos, vneg, apos, aneg)
-    d = np.abs(D)
-    four_k = 2.0 / rise + 2.0 / fall
-    root = T * T - four_k * d
-    np.maximum(root, 0.0, out=root)
-    np.sqrt(root, out=root)
-    root += T
-    vp = np.divide(2.0 * d, root, out=np.zeros_like(root), where=root > 0)
-    np.minimum(vp, speed, out=vp)  # rounding at the minimum duration
-    return RestPhases(D, vp, rise, fall, np.broadcast_to(T, vp.shape))
+    def transposed(self) -> RestPhases:
+        """The same phases with the two axes swapped (views, no copies)."""
+        swap = lambda x: np.broadcast_to(x, self._speed.shape).T  # noqa: E731
+        return RestPhases(
+            *(swap(x) for x in (self._D, self._speed, self._rise, self._fall, self._T))
+        )

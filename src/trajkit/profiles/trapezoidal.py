@@ -164,6 +164,14 @@ def _common_duration(T: FloatArray, args: tuple[FloatArray, ...]) -> tuple[Float
     return T, _exact_duration(T[..., np.newaxis], args)
 
 
+def _at_rest(velocity: FloatArray) -> bool:
+    """All zero; a broadcast view is tested through its base, without a full pass."""
+    base = velocity
+    while isinstance(base, np.ndarray) and base.base is not None and base.strides.count(0):
+        base = base.base
+    return not np.any(base if base.size < velocity.size else velocity)
+
+
 def solve_trapezoid(
     distance: FloatArray,
     v0: FloatArray,
@@ -183,7 +191,7 @@ def solve_trapezoid(
     args = (distance, v0, vf, vpos, vneg, apos, aneg)
     if sync == "phase":
         return _solve_phase_synchronized(*args, duration=duration)
-    if not np.any(v0) and not np.any(vf):
+    if _at_rest(v0) and _at_rest(vf):
         return _solve_rest_to_rest(distance, vpos, vneg, apos, aneg, sync, duration)
     fastest = math.minimum_time(*args)
     own = fastest.duration
@@ -261,14 +269,13 @@ def _solve_rest_to_rest(
     duration: FloatArray | None,
 ) -> TrapezoidSolution:
     """All closed forms: at rest at both ends every duration above the minimum works."""
-    own = math.rest_minimum_time(distance, vpos, vneg, apos, aneg)
+    own, phases_at = math.rest_plan(distance, vpos, vneg, apos, aneg)
     if sync is None and duration is None:
         T, target = own.max(axis=-1), own
     else:
         T = own.max(axis=-1) if duration is None else np.asarray(duration, dtype=float)
         target = T[..., np.newaxis]
-    phases = math.rest_to_rest(distance, vpos, vneg, apos, aneg, target)
-    return TrapezoidSolution(None, None, None, T, own, None, phases=phases)
+    return TrapezoidSolution(None, None, None, T, own, None, phases=phases_at(target))
 
 
 def _solve_phase_synchronized(*args: FloatArray, duration: FloatArray | None) -> TrapezoidSolution:

@@ -1,0 +1,754 @@
+"""Closed forms of the jerk-limited ("double S") one-axis move.
+
+A move over the signed distance ``D`` from velocity ``v0`` to ``vf``, with zero
+acceleration at both ends, under ``|v| <= V``, ``|a| <= A``, ``|j| <= J``, is a
+velocity change ``v0 -> vp``, a coast at the peak velocity ``vp`` and a velocity
+change ``vp -> vf``. Each change is done as fast as the limits allow: the
+acceleration ramps at jerk ``+-J``, holds at ``+-A`` when the change is large and
+ramps back to zero. A change of size ``d`` then takes
+
+    Tc(d) = d / A + A / J   if d >= A^2 / J   (acceleration saturates)
+    Tc(d) = 2 sqrt(d / J)   otherwise,
+
+and, its acceleration being symmetric in time, covers ``(va + vb) / 2 * Tc(d)``.
+
+Everything is computed in units where ``A = J = 1`` (time ``A / J``, velocity
+``A^2 / J``, distance ``A^3 / J^2``) and vectorized over the broadcast shape of the
+arguments: candidate solutions stack on a last axis and the best valid one is
+picked per element, with no Python loop per move (loops run over a fixed, small
+number of cases only).
+
+Minimum time (:func:`minimum_time`) takes the best of
+
+* a coast at ``vp = +V`` or ``vp = -V`` (coast time ``(D - f(vp)) / vp >= 0``,
+  where ``f(vp)`` is the distance of the two changes);
+* no coast, ``f(vp) = D``, solved exactly in every region of the signs
+  ``s1 = sign(vp - v0)``, ``s3 = sign(vf - vp)`` and of which change saturates:
+  both saturated: quadratic in ``vp``; one saturated: quartic in the other
+  change's jerk time ``x`` (``vp = va + s x^2``), closed form (Ferrari); both
+  unsaturated with ``s1 = -s3``: quartic in the sum ``u`` of the two jerk times
+  (the duration is ``2 u``); both unsaturated with ``s1 = s3``: degree-6
+  polynomial (companion-matrix eigenvalues, only for the elements where that
+  region exists). Every root is polished by Newton steps on the un-squared
+  region equation and kept when it satisfies the region's constraints;
+* the trivial standstill ``D = 0, v0 = vf`` (duration 0) and the coast at
+  ``vp = v0 = vf``.
+
+The regions with ``s1 = +1`` are solved once on four transformed problems: the
+original, the mirrored one (``-D, -v0, -vf``: ``s1 = -1``), the time-reversed one
+(``v0 <-> vf``: the saturated change first) and both; the results are mapped back.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from trajkit._validation import FloatArray
+
+__all__ = [
+    "SCurvePhases",
+    "VelocityChange",
+    "fixed_duration",
+    "minimum_time",
+    "to_phases",
+    "velocity_change",
+]
+
+# Relative slack of the region and limit checks, so that a profile exactly at a
+# boundary is not rejected for its last bits of rounding.
+_SLACK = 1e-12
+# Largest accepted residual of a polished root (relative to the distance terms).
+_RESIDUAL = 1e-10
+_NEWTON_STEPS = 3
+# Iterations of the bisections of fixed_duration (each halves the bracket).
+_BISECTIONS = 110
+
+# Candidate fields, in normalized units (A = J = 1).
+_FIELDS = ("vp", "tj1", "ta1", "a1", "tj2", "ta2", "a2", "tv", "valid")
+
+
+class VelocityChange(NamedTuple):
+    """One velocity change: jerk-phase time, constant-acceleration time, peak, jerk.
+
+    ``a`` is the signed peak acceleration, ``jerk`` the signed jerk of the rising
+    phase (the falling phase has ``-jerk``). The change lasts ``2 * tj + ta``.
+    """
+
+    tj: FloatArray
+    ta: FloatArray
+    a: FloatArray
+    jerk: FloatArray
+
+
+class SCurvePhases:
+    """Per-element double-S profiles: two velocity changes around a coast.
+
+    Attributes
+    ----------
+    vp : ndarray
+        Signed peak (coast) velocity.
+    tj1, ta1, a1, j1 : ndarray
+        First change ``v0 -> vp``: jerk-phase time, constant-acceleration time,
+        signed peak acceleration, signed jerk of its rising phase.
+    tv : ndarray
+        Coast time at ``vp``.
+    tj2, ta2, a2, j2 : ndarray
+        Second change ``vp -> vf``, as for the first.
+    duration : ndarray
+        Total duration ``2 tj1 + ta1 + tv + 2 tj2 + ta2``.
+    valid : ndarray of bool
+        False where no profile was found (the other fields are then meaningless).
+    """
+
+    __slots__ = (
+        "a1", "a2", "duration", "j1", "j2", "ta1", "ta2", "tj1", "tj2", "tv", "valid", "vp",
+    )  # fmt: skip
+
+    def __init__(self, vp, tj1, ta1, a1, j1, tv, tj2, ta2, a2, j2, duration, valid) -> None:
+        self.vp = vp
+        self.tj1, self.ta1, self.a1, self.j1 = tj1, ta1, a1, j1
+        self.tv = tv
+        self.tj2, self.ta2, self.a2, self.j2 = tj2, ta2, a2, j2
+        self.duration = duration
+        self.valid = valid
+
+    @property
+    def first(self) -> VelocityChange:
+        """The change ``v0 -> vp``."""
+        return VelocityChange(self.tj1, self.ta1, self.a1, self.j1)
+
+    @property
+    def second(self) -> VelocityChange:
+        """The change ``vp -> vf``."""
+        return VelocityChange(self.tj2, self.ta2, self.a2, self.j2)
+
+    def to_phases(self) -> tuple[FloatArray, FloatArray]:
+        """The 7 phase durations and jerks, each of shape ``(..., 7)``.
+
+        Phases: rise, hold, fall of the first change, coast, rise, hold, fall of
+        the second change. Jerks are ``+-J'`` (``J'`` the jerk actually used) or
+        0; zero-length phases are kept. Starting at acceleration 0, integrating
+        these pieces reproduces the profile (see :meth:`phase_accelerations`).
+        """
+        zero = np.zeros_like(self.tv)
+        durations = np.stack(
+            [self.tj1, self.ta1, self.tj1, self.tv, self.tj2, self.ta2, self.tj2], axis=-1
+        )
+        jerks = np.stack([self.j1, zero, -self.j1, zero, self.j2, zero, -self.j2], axis=-1)
+        return durations, jerks
+
+    def phase_accelerations(self) -> FloatArray:
+        """Acceleration at the start of each of the 7 phases, shape ``(..., 7)``."""
+        zero = np.zeros_like(self.tv)
+        return np.stack([zero, self.a1, self.a1, zero, zero, self.a2, self.a2], axis=-1)
+
+
+def to_phases(phases: SCurvePhases) -> tuple[FloatArray, FloatArray]:
+    """The 7 phase durations and jerks of ``phases`` (see :meth:`SCurvePhases.to_phases`)."""
+    return phases.to_phases()
+
+
+def velocity_change(d, A, J) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Fastest change of velocity by ``d >= 0`` with zero end accelerations.
+
+    Parameters
+    ----------
+    d : array_like
+        Size of the change (>= 0).
+    A, J : array_like
+        Acceleration and jerk limits (> 0).
+
+    Returns
+    -------
+    time, tj, ta : ndarray
+        Duration ``2 tj + ta``, jerk-phase time and constant-acceleration time.
+    """
+    d, A, J = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (d, A, J)))
+    saturated = d * J >= A * A
+    tj = np.where(saturated, A / J, np.sqrt(d / J))
+    ta = np.where(saturated, d / A - A / J, 0.0)
+    return 2 * tj + ta, tj, ta
+
+
+# --------------------------------------------------------------------------- helpers
+def _e(x):
+    """Append a candidate axis."""
+    return x[..., np.newaxis]
+
+
+def _safe_div(num, den):
+    return np.divide(
+        num, den, out=np.zeros(np.broadcast_shapes(num.shape, den.shape)), where=den != 0
+    )
+
+
+def _change(va, vb):
+    """Fastest change ``va -> vb`` (normalized): tj, ta, signed peak a, duration, distance."""
+    dv = vb - va
+    d = np.abs(dv)
+    saturated = d >= 1.0
+    tj = np.where(saturated, 1.0, np.sqrt(d))
+    ta = np.where(saturated, d - 1.0, 0.0)
+    duration = 2 * tj + ta
+    return tj, ta, np.sign(dv) * tj, duration, 0.5 * (va + vb) * duration
+
+
+def _candidate(shape, **fields) -> dict:
+    return {name: np.broadcast_to(fields[name], shape) for name in _FIELDS}
+
+
+def _concat(candidates: list[dict]) -> dict:
+    shape = np.broadcast_shapes(*(c["vp"].shape[:-1] for c in candidates))
+    return {
+        name: np.concatenate(
+            [np.broadcast_to(c[name], (*shape, c[name].shape[-1])) for c in candidates], axis=-1
+        )
+        for name in _FIELDS
+    }
+
+
+def _quadratic(B, C):
+    """Real parts of the roots of ``t^2 + B t + C`` (cancellation-free)."""
+    disc = B * B - 4 * C
+    sq = np.sqrt(np.maximum(disc, 0.0))
+    q = -0.5 * (B + np.copysign(sq, B))
+    # Without real roots both real parts are -B/2; with B = C = 0 both roots are 0.
+    other = np.where(disc >= 0, _safe_div(C, q), q)
+    return q, other
+
+
+def _cubic_largest_root(a, b, c):
+    """Largest real root of ``m^3 + a m^2 + b m + c`` (Cardano / trigonometric)."""
+    P = b - a * a / 3
+    Q = (2 * a * a / 27 - b / 3) * a + c
+    disc = (Q / 2) ** 2 + (P / 3) ** 3
+    sq = np.sqrt(np.maximum(disc, 0.0))
+    w = np.cbrt(-Q / 2 - np.copysign(sq, Q))
+    one_real = w - _safe_div(P, 3 * w)
+    rr = np.sqrt(np.maximum(-P / 3, 0.0))
+    cos3 = np.clip(_safe_div(-Q, 2 * rr**3), -1.0, 1.0)
+    three_real = 2 * rr * np.cos(np.arccos(cos3) / 3)
+    m = np.where(disc > 0, one_real, three_real) - a / 3
+    for _ in range(2):
+        f = ((m + a) * m + b) * m + c
+        df = (3 * m + 2 * a) * m + b
+        step = _safe_div(f, df)
+        m = np.where(np.isfinite(step) & (np.abs(step) <= 1e-3 * (np.abs(m) + 1e-300)), m - step, m)
+    return m
+
+
+def _quartic_roots(b, c, d, e):
+    """Real parts of the four roots of ``x^4 + b x^3 + c x^2 + d x + e`` (Ferrari).
+
+    Complex pairs come back as their (shared) real part: callers polish every
+    root and keep only those whose residual vanishes. Shape ``(..., 4)``.
+    """
+    bb = b * b
+    p = c - 3 * bb / 8
+    q = d - b * c / 2 + bb * b / 8
+    r = e - b * d / 4 + bb * c / 16 - 3 * bb * bb / 256
+    m = np.maximum(_cubic_largest_root(p, p * p / 4 - r, -q * q / 8), 0.0)
+    s = np.sqrt(2 * m)
+    # R = q / (2 s); for s -> 0 (q -> 0) from the resolvent identity instead.
+    big = 2 * m > 1e-8 * (np.abs(p) + np.sqrt(np.abs(r)))
+    R = np.where(
+        big,
+        _safe_div(q, 2 * s),
+        np.copysign(np.sqrt(np.maximum((m + p / 2) ** 2 - r, 0.0)), q),
+    )
+    t1, t2 = _quadratic(-s, p / 2 + m + R)
+    t3, t4 = _quadratic(s, p / 2 + m - R)
+    return np.stack([t1, t2, t3, t4], axis=-1) - _e(b) / 4
+
+
+def _newton(fun, x, steps=_NEWTON_STEPS):
+    """A few guarded Newton steps on ``fun(x) -> (value, derivative)``."""
+    for _ in range(steps):
+        g, dg = fun(x)
+        step = _safe_div(g, dg)
+        x = np.where(np.isfinite(step), x - step, x)
+    return x
+
+
+# ------------------------------------------------------------- minimum-time regions
+def _coasts(D, v0, vf, V) -> list[dict]:
+    """Coast at +V or -V, the coast at vp = v0 = vf and the standstill."""
+    out = []
+    shape = (*D.shape, 1)
+    for vp in (V, -V):
+        tj1, ta1, a1, _, x1 = _change(v0, vp)
+        tj2, ta2, a2, _, x2 = _change(vp, vf)
+        tv = (D - x1 - x2) / vp
+        scale = np.abs(D) + np.abs(x1) + np.abs(x2)
+        valid = tv * np.abs(vp) >= -_SLACK * scale
+        out.append(
+            _candidate(
+                shape, vp=_e(vp), tj1=_e(tj1), ta1=_e(ta1), a1=_e(a1), tj2=_e(tj2),
+                ta2=_e(ta2), a2=_e(a2), tv=_e(np.maximum(tv, 0.0)), valid=_e(valid),
+            )
+        )  # fmt: skip
+    # Coast at the common boundary velocity (D = 0: standstill, duration 0).
+    same = v0 == vf
+    tv = np.where(D == 0, 0.0, _safe_div(D, v0))
+    valid = same & ((D == 0) | ((v0 != 0) & (tv > 0)))
+    zero = np.zeros(shape)
+    out.append(
+        _candidate(
+            shape, vp=_e(v0), tj1=zero, ta1=zero, a1=zero, tj2=zero, ta2=zero, a2=zero,
+            tv=_e(tv), valid=_e(valid),
+        )
+    )  # fmt: skip
+    return out
+
+
+def _both_saturated(D, v0, vf) -> list[dict]:
+    """Both changes saturated, no coast: ``(s1 - s3)/2 vp^2 + vp + C = 0``."""
+    out = []
+    for s1 in (1.0, -1.0):
+        for s3 in (1.0, -1.0):
+            C = -s1 * v0 * v0 / 2 + s3 * vf * vf / 2 + (v0 + vf) / 2 - D
+            if s1 == s3:
+                vp = _e(-C)
+            else:
+                # s1 vp^2 + vp + C = 0  <=>  vp^2 + s1 vp + s1 C = 0
+                vp = np.stack(_quadratic(s1 + 0 * C, s1 * C), axis=-1)
+            D_, v0_, vf_ = _e(D), _e(v0), _e(vf)
+
+            def g(vp, s1=s1, s3=s3, D_=D_, v0_=v0_, vf_=vf_):
+                d1, d3 = s1 * (vp - v0_), s3 * (vf_ - vp)
+                value = (v0_ + vp) * (d1 + 1) / 2 + (vp + vf_) * (d3 + 1) / 2 - D_
+                slope = (d1 + 1 + s1 * (v0_ + vp) + d3 + 1 - s3 * (vp + vf_)) / 2
+                return value, slope
+
+            vp = _newton(g, vp, steps=1)
+            d1, d3 = s1 * (vp - v0_), s3 * (vf_ - vp)
+            value, _ = g(vp)
+            scale = np.abs(D_) + np.abs((v0_ + vp) * (d1 + 1)) + np.abs((vp + vf_) * (d3 + 1))
+            valid = (
+                np.isfinite(vp)
+                & (d1 >= 1 - _SLACK * (1 + np.abs(vp)))
+                & (d3 >= 1 - _SLACK * (1 + np.abs(vp)))
+                & (np.abs(value) <= _RESIDUAL * scale)
+            )
+            out.append(
+                _candidate(
+                    vp.shape, vp=vp, tj1=1.0, ta1=np.maximum(d1 - 1, 0.0), a1=s1, tj2=1.0,
+                    ta2=np.maximum(d3 - 1, 0.0), a2=s3, tv=0.0, valid=valid,
+                )
+            )  # fmt: skip
+    return out
+
+
+def _first_unsaturated(D, v0, vf, s3) -> dict:
+    """Rising first change unsaturated (jerk time ``x``), second saturated: quartic in x."""
+    a0 = s3 * (vf - v0) * (vf + v0) / 2 + (v0 + vf) / 2 - D
+    # -s3/2 x^4 + x^3 + (1/2 - s3 v0) x^2 + 2 v0 x + a0 = 0, made monic.
+    x = _quartic_roots(-2 * s3 + 0 * v0, 2 * v0 - s3, -4 * s3 * v0, -2 * s3 * a0)
+    D_, v0_, vf_ = _e(D), _e(v0), _e(vf)
+    c = vf_ - v0_
+
+    def g(x):
+        vp = v0_ + x * x
+        d3 = s3 * (c - x * x)
+        value = (2 * v0_ + x * x) * x + (vp + vf_) * (d3 + 1) / 2 - D_
+        return value, 2 * v0_ + 3 * x * x + x * (1 - 2 * s3 * vp)
+
+    x = _newton(g, x)
+    value, _ = g(x)
+    vp = v0_ + x * x
+    d3 = s3 * (c - x * x)
+    scale = np.abs(D_) + np.abs((2 * v0_ + x * x) * x) + np.abs((vp + vf_) * (d3 + 1))
+    valid = (
+        np.isfinite(x)
+        & (x >= -_SLACK)
+        & (x <= 1 + _SLACK)
+        & (d3 >= 1 - _SLACK * (1 + np.abs(vp)))
+        & (np.abs(value) <= _RESIDUAL * scale)
+    )
+    x = np.clip(x, 0.0, 1.0)
+    return _candidate(
+        x.shape, vp=vp, tj1=x, ta1=0.0, a1=x, tj2=1.0, ta2=np.maximum(d3 - 1, 0.0), a2=s3,
+        tv=0.0, valid=valid,
+    )  # fmt: skip
+
+
+def _both_unsaturated_peak(D, v0, vf) -> dict:
+    """Rise then fall, both unsaturated: quartic in ``u = x + y`` (duration ``2 u``).
+
+    With ``x^2 - y^2 = c = vf - v0`` and ``w = c / u = x - y`` the distance
+    equation times ``u`` is ``u^4 / 4 + (v0 + vf) u^2 - D u - c^2 / 4 = 0``.
+    """
+    w, c = v0 + vf, vf - v0
+    zero = 0 * w
+    u = _quartic_roots(zero, 4 * w, -4 * D, -c * c)
+    D_, w_, c_ = _e(D), _e(w), _e(c)
+
+    def h(u):
+        return ((u * u / 4 + w_) * u - D_) * u - c_ * c_ / 4, (u * u + 2 * w_) * u - D_
+
+    u = _newton(h, u)
+    value, _ = h(u)
+    positive = u > 0
+    x = np.where(positive, (u + _safe_div(c_, u)) / 2, 0.0)
+    y = np.where(positive, (u - _safe_div(c_, u)) / 2, 0.0)
+    scale = np.abs(D_) * u + np.abs(w_) * u * u + u**4 / 4 + c_ * c_ / 4
+    valid = (
+        np.isfinite(u)
+        & (positive | ((c_ == 0) & (D_ == 0)))
+        & (x >= -_SLACK)
+        & (y >= -_SLACK * (1 + np.abs(u)))
+        & (x <= 1 + _SLACK)
+        & (y <= 1 + _SLACK)
+        & (np.abs(value) <= _RESIDUAL * scale)
+    )
+    x, y = np.clip(x, 0.0, 1.0), np.clip(y, 0.0, 1.0)
+    vp = np.where(x <= y, _e(v0) + x * x, _e(vf) + y * y)
+    return _candidate(
+        u.shape, vp=vp, tj1=x, ta1=0.0, a1=x, tj2=y, ta2=0.0, a2=-y, tv=0.0, valid=valid
+    )
+
+
+def _both_unsaturated_monotone(D, v0, vf) -> dict:
+    """Rise then rise again, both unsaturated: degree 6 in the first jerk time ``x``.
+
+    ``x^2 + y^2 = c = vf - v0``; the distance ``x (2 v0 + x^2) + y (v0 + vf + x^2)``
+    with the square root ``y`` isolated and squared gives the polynomial. Solved by
+    companion-matrix eigenvalues, only where the region exists (``0 < c <= 2``);
+    roots are polished on the circle ``x = sqrt(c) cos t, y = sqrt(c) sin t``.
+    """
+    c, w = vf - v0, vf + v0
+    shape = (*D.shape, 6)
+    x = np.full(shape, np.nan)
+    where = (c > 0) & (c <= 2 + 1e-9)
+    if np.any(where):
+        Dm, v0m, cm, wm = D[where], v0[where], c[where], w[where]
+        coefficients = np.stack(
+            [
+                0 * Dm,
+                (7 * v0m + vf[where]) / 2,
+                -Dm,
+                (4 * v0m * v0m - 2 * cm * wm + wm * wm) / 2,
+                -2 * v0m * Dm,
+                (Dm * Dm - cm * wm * wm) / 2,
+            ],
+            axis=-1,
+        )
+        companion = np.zeros((Dm.size, 6, 6))
+        companion[:, 0, :] = -coefficients
+        companion[:, np.arange(1, 6), np.arange(5)] = 1.0
+        x[where] = np.linalg.eigvals(companion).real
+    r = _e(np.sqrt(np.maximum(c, 0.0)))
+    theta = np.arctan2(np.sqrt(np.maximum(r * r - x * x, 0.0)), x)
+    D_, v0_, w_ = _e(D), _e(v0), _e(w)
+
+    def g(theta):
+        x, y = r * np.cos(theta), r * np.sin(theta)
+        value = 2 * v0_ * x + x**3 + y * (w_ + x * x) - D_
+        return value, -y * (2 * v0_ + 3 * x * x + 2 * x * y) + x * (w_ + x * x)
+
+    theta = _newton(g, theta)
+    value, _ = g(theta)
+    x, y = r * np.cos(theta), r * np.sin(theta)
+    scale = np.abs(D_) + np.abs(2 * v0_ * x + x**3) + np.abs(y * (w_ + x * x))
+    valid = (
+        np.isfinite(theta)
+        & (x >= -_SLACK)
+        & (y >= -_SLACK)
+        & (x <= 1 + _SLACK)
+        & (y <= 1 + _SLACK)
+        & (np.abs(value) <= _RESIDUAL * scale)
+    )
+    x, y = np.clip(x, 0.0, 1.0), np.clip(y, 0.0, 1.0)
+    vp = np.where(x <= y, v0_ + x * x, _e(vf) - y * y)
+    return _candidate(shape, vp=vp, tj1=x, ta1=0.0, a1=x, tj2=y, ta2=0.0, a2=y, tv=0.0, valid=valid)
+
+
+def _untransform(cand: dict, negate, reverse) -> dict:
+    """Map candidates of mirrored (``negate``) / time-reversed problems back.
+
+    ``negate`` and ``reverse`` broadcast against the candidate axes.
+    """
+    out = dict(cand)
+    flip = np.where(negate ^ reverse, -1.0, 1.0)
+    out["vp"] = np.where(negate, -cand["vp"], cand["vp"])
+    for one, two in (("tj1", "tj2"), ("ta1", "ta2")):
+        out[one] = np.where(reverse, cand[two], cand[one])
+        out[two] = np.where(reverse, cand[one], cand[two])
+    out["a1"] = flip * np.where(reverse, cand["a2"], cand["a1"])
+    out["a2"] = flip * np.where(reverse, cand["a1"], cand["a2"])
+    return out
+
+
+def _flatten(cand: dict) -> dict:
+    """Merge the last two axes (transforms x roots) into one candidate axis."""
+    return {n: v.reshape(*v.shape[:-2], v.shape[-2] * v.shape[-1]) for n, v in cand.items()}
+
+
+def _no_coast(D, v0, vf) -> list[dict]:
+    """Every no-coast region (normalized units)."""
+    # Transforms on a new axis: original, mirrored, reversed, mirrored and reversed.
+    D4 = np.stack([D, -D, D, -D], axis=-1)
+    v04 = np.stack([v0, -v0, vf, -vf], axis=-1)
+    vf4 = np.stack([vf, -vf, v0, -v0], axis=-1)
+    negate4 = np.array([False, True, False, True])[:, np.newaxis]
+    reverse4 = np.array([False, False, True, True])[:, np.newaxis]
+    out = _both_saturated(D, v0, vf)
+    for s3 in (1.0, -1.0):
+        cand = _first_unsaturated(D4, v04, vf4, s3)
+        out.append(_flatten(_untransform(cand, negate4, reverse4)))
+    negate2, reverse2 = negate4[:2], reverse4[:2]
+    for region in (_both_unsaturated_peak, _both_unsaturated_monotone):
+        cand = region(D4[..., :2], v04[..., :2], vf4[..., :2])
+        out.append(_flatten(_untransform(cand, negate2, reverse2)))
+    return out
+
+
+def _pick(cand: dict, duration) -> tuple[dict, FloatArray]:
+    key = np.where(cand["valid"], duration, np.inf)
+    index = np.argmin(key, axis=-1)[..., np.newaxis]
+    picked = {n: np.take_along_axis(v, index, axis=-1)[..., 0] for n, v in cand.items()}
+    return picked, np.take_along_axis(duration, index, axis=-1)[..., 0]
+
+
+def _to_physical(n: dict, duration, V, A, J) -> SCurvePhases:
+    """Scale normalized fields back (time A/J, velocity A^2/J, acceleration A)."""
+    tau = A / J
+    vp = np.clip(n["vp"] * (A * tau), -V, V)
+    return SCurvePhases(
+        vp=vp,
+        tj1=n["tj1"] * tau, ta1=n["ta1"] * tau, a1=n["a1"] * A, j1=n["j1"] * J,
+        tv=n["tv"] * tau,
+        tj2=n["tj2"] * tau, ta2=n["ta2"] * tau, a2=n["a2"] * A, j2=n["j2"] * J,
+        duration=duration * tau, valid=n["valid"],
+    )  # fmt: skip
+
+
+def _inputs(*arrays):
+    return np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays))
+
+
+def minimum_time(D, v0, vf, V, A, J) -> SCurvePhases:
+    """Time-optimal double-S profile of every element.
+
+    Parameters
+    ----------
+    D : array_like
+        Signed distance.
+    v0, vf : array_like
+        Start and end velocities, ``|v0|, |vf| <= V`` (not checked here).
+    V, A, J : array_like
+        Velocity, acceleration and jerk limits (> 0, symmetric).
+
+    Returns
+    -------
+    SCurvePhases
+        Arrays of the broadcast shape of the arguments; jerks are ``+-J``.
+    """
+    D, v0, vf, V, A, J = _inputs(D, v0, vf, V, A, J)
+    vs = A * A / J
+    ds = vs * A / J
+    with np.errstate(all="ignore"):
+        Dn, v0n, vfn, Vn = D / ds, v0 / vs, vf / vs, V / vs
+        cand = _concat(_coasts(Dn, v0n, vfn, Vn) + _no_coast(Dn, v0n, vfn))
+        cand["valid"] = cand["valid"] & (np.abs(cand["vp"]) <= _e(Vn) * (1 + _SLACK))
+        cand["vp"] = np.clip(cand["vp"], -_e(Vn), _e(Vn))
+        duration = 2 * cand["tj1"] + cand["ta1"] + cand["tv"] + 2 * cand["tj2"] + cand["ta2"]
+        best, duration = _pick(cand, duration)
+    best["j1"] = np.where(best["a1"] != 0, np.sign(best["a1"]), 0.0)
+    best["j2"] = np.where(best["a2"] != 0, np.sign(best["a2"]), 0.0)
+    return _to_physical(best, duration, V, A, J)
+
+
+# ------------------------------------------------------------------- fixed duration
+def _tc(d):
+    """Normalized duration of the fastest change of size ``d``."""
+    return np.where(d >= 1.0, d + 1.0, 2 * np.sqrt(d))
+
+
+def _span(vp, v0, vf):
+    """Time of the two fastest changes ``v0 -> vp -> vf``."""
+    return _tc(np.abs(vp - v0)) + _tc(np.abs(vf - vp))
+
+
+def _H(z):
+    """Odd extension of ``G(d) = d Tc(d) / 2``: distance deficit of a change."""
+    d = np.abs(z)
+    return np.sign(z) * np.where(d >= 1.0, d * (d + 1) / 2, d * np.sqrt(d))
+
+
+def _dH(z):
+    d = np.abs(z)
+    return np.where(d >= 1.0, d + 0.5, 1.5 * np.sqrt(d))
+
+
+def _coast_distance(vp, T, v0, vf):
+    """Distance of change, coast, change taking ``T`` in all: ``vp T - H(vp-v0) - H(vp-vf)``."""
+    return vp * T - _H(vp - v0) - _H(vp - vf)
+
+
+def _bisect(fun, lo, hi, target, iterations=_BISECTIONS):
+    """Root of ``fun(x) = target`` in ``[lo, hi]`` keeping the sign change (vectorized)."""
+    f_lo = fun(lo) - target
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        f_mid = fun(mid) - target
+        left = (f_mid == 0) | (np.sign(f_mid) != np.sign(f_lo))
+        hi = np.where(left, mid, hi)
+        lo, f_lo = np.where(left, lo, mid), np.where(left, f_lo, f_mid)
+    return 0.5 * (lo + hi)
+
+
+def _slower_jerk(vp, T, v0, vf):
+    """``z = sqrt(A / J')`` (normalized) making the two changes take exactly ``T``.
+
+    Each change of size ``d`` with jerk ``J' = 1 / z^2`` takes ``d + z^2`` when
+    ``d >= z^2`` (saturated), else ``2 z sqrt(d)``; their sum grows with ``z``.
+    """
+    d1, d3 = np.abs(vp - v0), np.abs(vf - vp)
+    small, large = np.minimum(d1, d3), np.maximum(d1, d3)
+    both_saturated = np.sqrt(np.maximum((T - d1 - d3) / 2, 0.0))
+    root_sum = np.sqrt(d1) + np.sqrt(d3)
+    both_free = _safe_div(T, 2 * root_sum)
+    mixed = -np.sqrt(small) + np.sqrt(np.maximum(small + T - large, 0.0))
+    return np.where(
+        T - d1 - d3 <= 2 * small,
+        both_saturated,
+        np.where((both_free * both_free >= large) | (root_sum == 0), both_free, mixed),
+    )
+
+
+def _change_with_jerk(va, vb, z):
+    """Change ``va -> vb`` at jerk ``1 / z^2`` (normalized): tj, ta, signed peak a."""
+    dv = vb - va
+    d = np.abs(dv)
+    saturated = d >= z * z
+    tj = np.where(saturated, z * z, z * np.sqrt(d))
+    ta = np.where(saturated, d - z * z, 0.0)
+    a = np.sign(dv) * np.where(saturated, 1.0, _safe_div(np.sqrt(d), z))
+    return tj, ta, a
+
+
+def _gap_distance(vp, T, v0, vf):
+    """Distance of the no-coast profile through ``vp`` stretched to ``T`` by a lower jerk."""
+    z = _slower_jerk(vp, T, v0, vf)
+    d1 = np.abs(vp - v0)
+    t1 = np.where(d1 >= z * z, d1 + z * z, 2 * z * np.sqrt(d1))
+    return (v0 + vp) / 2 * t1 + (vp + vf) / 2 * (T - t1)
+
+
+def fixed_duration(T, D, v0, vf, V, A, J) -> SCurvePhases:
+    """A double-S profile of every element taking exactly ``T``.
+
+    Two families are searched, both within ``|v| <= V``, ``|a| <= A``, ``|j| <= J``:
+
+    1. *Lower peak with a coast* (jerk ``J``, acceleration limit ``A``): fastest
+       change to ``vp``, coast, fastest change to ``vf``; the coast fills the time
+       left, so the distance ``F(vp) = vp T - H(vp - v0) - H(vp - vf)`` (``H`` the
+       odd extension of ``d Tc(d) / 2``) must equal ``D``. ``F`` is strictly
+       increasing wherever the coast time is >= 0, a set made of at most two
+       intervals ``[L, p]`` and ``[q, R]`` (the changes alone take longer than
+       ``T`` for ``vp`` strictly between ``p`` and ``q``, which lie between ``v0``
+       and ``vf``). Each interval holds at most one solution, found by bisection
+       to full precision; the one of smallest ``|vp|`` is kept. For ``v0 = vf = 0``
+       this always succeeds when ``T`` is at least the minimum time.
+    2. *Lower jerk, no coast* (fills the gap ``F(p) < D < F(q)`` of family 1):
+       ``vp`` between ``v0`` and ``vf``, both changes with the same reduced jerk
+       ``J' <= J`` (acceleration still saturating at ``A`` where needed) such that
+       they take exactly ``T``. Along ``vp`` from ``p`` to the nearer of ``v0, vf``
+       the distance runs continuously from ``F(p)`` (or ``F(q)``) to
+       ``T (v0 + vf) / 2``, so the gap is covered; solved by bisection on ``vp``.
+
+    Together they reach every ``D`` between the shortest and the longest distance
+    that family 1 covers in time ``T`` (coasting at ``-V`` or ``+V`` at the ends).
+    ``valid`` is False elsewhere: there ``T`` cannot be met by these profiles
+    (typically a duration inside a blocked interval of a move with moving
+    boundaries, or ``T`` below the minimum time).
+
+    Parameters
+    ----------
+    T : array_like
+        Required duration (>= 0).
+    D, v0, vf, V, A, J : array_like
+        As for :func:`minimum_time`.
+
+    Returns
+    -------
+    SCurvePhases
+        ``duration`` is ``T``; ``j1``, ``j2`` carry the jerk used (``+-J`` or lower).
+    """
+    T, D, v0, vf, V, A, J = _inputs(T, D, v0, vf, V, A, J)
+    tau = A / J
+    vs = A * tau
+    ds = vs * tau
+    with np.errstate(all="ignore"):
+        n = _fixed_duration(T / tau, D / ds, v0 / vs, vf / vs, V / vs)
+    duration = np.where(n["valid"], T / tau, np.nan)
+    phases = _to_physical(n, duration, V, A, J)
+    phases.duration = T.copy()
+    return phases
+
+
+def _fixed_duration(T, D, v0, vf, V) -> dict:
+    lo, hi = np.minimum(v0, vf), np.maximum(v0, vf)
+    mid = 0.5 * (lo + hi)
+    possible = np.isfinite(T) & (T >= 0) & (_tc(hi - lo) <= T * (1 + _SLACK))
+
+    def span(vp):
+        return _span(vp, v0, vf)
+
+    # Ends of the coast-feasible set: span(vp) <= T on [L, p] and [q, R].
+    R = np.where(span(V) <= T, V, _bisect(span, hi, V, T))
+    L = np.where(span(-V) <= T, -V, _bisect(span, -V, lo, T))
+    gap = span(mid) > T
+    p = np.where(gap, _bisect(span, lo, mid, T), mid)
+    q = np.where(gap, lo + hi - p, mid)
+
+    def distance(vp):
+        return _coast_distance(vp, T, v0, vf)
+
+    scale = np.abs(D) + (np.abs(v0) + np.abs(vf) + V) * T + 1e-300
+    candidates = []
+    for a, b in ((L, p), (q, R)):
+        fa, fb = distance(a), distance(b)
+        inside = possible & (fa <= D + _SLACK * scale) & (D <= fb + _SLACK * scale)
+        vp = _bisect(distance, a, b, D)
+        for _ in range(2):  # Newton polish, kept inside the bracket
+            slope = T - _dH(vp - v0) - _dH(vp - vf)
+            step = _safe_div(distance(vp) - D, slope)
+            vp = np.clip(np.where(np.isfinite(step), vp - step, vp), a, b)
+        tj1, ta1, a1, t1, _ = _change(v0, vp)
+        tj2, ta2, a2, t2, _ = _change(vp, vf)
+        ok = inside & (np.abs(distance(vp) - D) <= 1e-9 * scale)
+        candidates.append(
+            dict(
+                vp=vp, tj1=tj1, ta1=ta1, a1=a1, j1=np.sign(a1), tv=np.maximum(T - t1 - t2, 0.0),
+                tj2=tj2, ta2=ta2, a2=a2, j2=np.sign(a2), valid=ok, rank=np.abs(vp),
+            )
+        )  # fmt: skip
+    # Gap: vp between v0 and vf, no coast, reduced jerk.
+    for a, b in ((lo, p), (q, hi)):
+        ga, gb = _gap_distance(a, T, v0, vf), _gap_distance(b, T, v0, vf)
+        inside = possible & gap & (np.minimum(ga, gb) <= D) & (D <= np.maximum(ga, gb))
+        vp = _bisect(lambda x: _gap_distance(x, T, v0, vf), a, b, D)
+        z = _slower_jerk(vp, T, v0, vf)
+        tj1, ta1, a1 = _change_with_jerk(v0, vp, z)
+        tj2, ta2, a2 = _change_with_jerk(vp, vf, z)
+        ok = inside & (z >= 1 - _SLACK) & (np.abs(_gap_distance(vp, T, v0, vf) - D) <= 1e-9 * scale)
+        jerk = _safe_div(np.ones_like(z), z * z)
+        candidates.append(
+            dict(
+                vp=vp, tj1=tj1, ta1=ta1, a1=a1, j1=np.sign(a1) * jerk,
+                tv=np.maximum(T - 2 * tj1 - ta1 - 2 * tj2 - ta2, 0.0),
+                tj2=tj2, ta2=ta2, a2=a2, j2=np.sign(a2) * jerk, valid=ok,
+                rank=np.abs(vp) + 2 * V + 1,
+            )
+        )  # fmt: skip
+    stacked = {k: np.stack([c[k] for c in candidates], axis=-1) for k in candidates[0]}
+    key = np.where(stacked["valid"], stacked.pop("rank"), np.inf)
+    index = np.argmin(key, axis=-1)[..., np.newaxis]
+    best = {k: np.take_along_axis(v, index, axis=-1)[..., 0] for k, v in stacked.items()}
+    # The coast absorbs the rounding of the other phases: the total is exactly T.
+    best["tv"] = np.maximum(T - 2 * best["tj1"] - best["ta1"] - 2 * best["tj2"] - best["ta2"], 0.0)
+    return best
