@@ -11,6 +11,7 @@ from hypothesis.extra import numpy as hnp
 import trajkit as tk
 from support import CLOSED_FORM, ROUNDING, piecewise_trajectories
 from trajkit import InvalidInputError, Limits, Report, Trajectory, Violation, check
+from trajkit.limits import parse_bounds
 
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 # Absolute floor for relative bounds (hypothesis draws subnormal coefficients).
@@ -73,6 +74,33 @@ def test_asymmetric_tuple_and_position_range() -> None:
     shifted = Limits(position=(1.0, 2.0))
     assert shifted.position is not None
     np.testing.assert_array_equal(shifted.position.lower, 1.0)
+
+
+def test_limits_keep_their_own_copies() -> None:
+    magnitude = np.array([1.0, 2.0])
+    lower, upper = np.array([-1.0, -1.0]), np.array([1.0, 1.0])
+    limits = Limits(velocity=magnitude, acceleration=(lower, upper))
+    magnitude[:] = 100.0
+    lower[:] = -100.0
+    upper[:] = 100.0
+    assert limits.velocity is not None and limits.acceleration is not None
+    np.testing.assert_array_equal(limits.velocity.upper, [1.0, 2.0])
+    np.testing.assert_array_equal(limits.velocity.lower, [-1.0, -2.0])
+    np.testing.assert_array_equal(limits.acceleration.lower, [-1.0, -1.0])
+    np.testing.assert_array_equal(limits.acceleration.upper, [1.0, 1.0])
+
+
+def test_parse_bounds_names_the_argument_it_was_given() -> None:
+    with pytest.raises(InvalidInputError, match=r"^vmax=.*must contain 0"):
+        parse_bounds("vmax", (0.5, 2.0), quantity="velocity")
+    with pytest.raises(InvalidInputError, match=r"^vmax limits must be > 0"):
+        parse_bounds("vmax", -1.0, quantity="velocity")
+    with pytest.raises(InvalidInputError, match=r"^range limits must be a tuple"):
+        parse_bounds("range", 1.0, quantity="position")
+    assert parse_bounds("vmax", None) is None
+    bounds = parse_bounds("vmax", [1.0, 3.0], quantity="velocity")
+    assert bounds is not None
+    np.testing.assert_array_equal(bounds.lower, [-1.0, -3.0])
 
 
 def test_limits_repr_lists_the_given_bounds() -> None:

@@ -263,6 +263,42 @@ def test_evaluation_results_are_fresh_arrays() -> None:
     np.testing.assert_array_equal(tr.coefficients[:, 0, 0], [2.0, 1.0])
 
 
+def test_zero_duration_standstill() -> None:
+    # breakpoints [t, t]: one piece of zero length, the state held at every time.
+    still = Trajectory([2.0, 2.0], [[[1.0, -3.0]]])
+    assert still.duration == 0.0
+    assert still.start_time == still.end_time == 2.0
+    np.testing.assert_array_equal(still.evaluate([0.0, 2.0, 5.0]), [[1.0, -3.0]] * 3)
+    np.testing.assert_array_equal(still.velocity(2.0), [0.0, 0.0])
+    np.testing.assert_array_equal(still.sample(0.1).t, [2.0])
+    found = still.extrema(0)
+    np.testing.assert_array_equal(found.minimum, [1.0, -3.0])
+    np.testing.assert_array_equal(found.time_of_maximum, [2.0, 2.0])
+    np.testing.assert_array_equal(still.time_scaled(3.0).breakpoints, [2.0, 2.0])
+    # Only a single zero-length piece is a standstill: repeated breakpoints elsewhere are not.
+    with _raises_invalid(r"breakpoints must be strictly increasing.*repeated"):
+        Trajectory([2.0, 2.0, 3.0], np.ones((1, 2, 1)))
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="BUG: then() concatenates breakpoints unconditionally, so joining a zero-duration "
+    "standstill ([t, t]) produces a repeated breakpoint and fails with 'breakpoints must be "
+    "strictly increasing'",
+)
+def test_then_with_a_zero_duration_standstill() -> None:
+    move = Trajectory([0.0, 2.0], [[[0.5]], [[1.0]]])  # from 1 to 2 at 0.5 per second
+    still = Trajectory([7.0, 7.0], [[[2.0]]])  # at 2, zero duration
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ContinuityWarning)  # the velocity drops to 0
+        joined = move.then(still)
+        before = Trajectory([0.0, 0.0], [[[1.0]]]).then(move)
+    assert joined.duration == 2.0
+    np.testing.assert_array_equal(joined.position([0.0, 1.0, 2.0]), [[1.0], [1.5], [2.0]])
+    assert before.duration == 2.0
+    np.testing.assert_array_equal(before.position([0.0, 2.0]), [[1.0], [2.0]])
+
+
 def test_repr_states_the_shape() -> None:
     tr = Trajectory([0.0, 0.5, 1.5, 2.25], np.zeros((4, 3, 2)))
     assert repr(tr) == "Trajectory(ndof=2, duration=2.25 s, pieces=3, degree=3)"

@@ -1,4 +1,4 @@
-"""Tests of trajkit.io.atomic_write: the file is written completely or not at all."""
+"""Tests of trajkit.io.atomic: files are written completely or not at all."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import IO
 
 import pytest
 
-from trajkit.io import atomic_write
+from trajkit.io import atomic_write, staged_files
 
 
 class WriterFailed(Exception):
@@ -138,21 +138,85 @@ def test_a_directory_in_the_way_raises_and_cleans_up(tmp_path: Path) -> None:
     assert _names(tmp_path) == ["taken"]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: the temporary file comes from tempfile (mode 0600) and is renamed as is, "
-    "so written files are 0600 instead of 0666 & ~umask, and rewriting a 0644 file makes "
-    "it 0600 (other users and tools lose read access)",
-)
 def test_written_files_get_the_usual_permissions(tmp_path: Path) -> None:
+    # tempfile creates 0600 files: atomic_write must not hand that mode on.
     old_umask = os.umask(0o022)
     try:
         fresh = atomic_write(tmp_path / "fresh.txt", lambda h: h.write(b"x"))
         existing = tmp_path / "existing.txt"
         existing.write_bytes(b"old")
-        existing.chmod(0o644)
+        existing.chmod(0o640)
         atomic_write(existing, lambda h: h.write(b"new"))
     finally:
         os.umask(old_umask)
-    assert stat.S_IMODE(existing.stat().st_mode) == 0o644
-    assert stat.S_IMODE(fresh.stat().st_mode) == 0o644
+    assert stat.S_IMODE(fresh.stat().st_mode) == 0o644  # 0666 less the umask
+    assert stat.S_IMODE(existing.stat().st_mode) == 0o640  # an existing file keeps its mode
+    assert existing.read_bytes() == b"new"
+
+
+# ---------------------------------------------------------------- staged_files
+
+
+def test_staged_files_appear_together(tmp_path: Path) -> None:
+    first, second = tmp_path / "move.csv", tmp_path / "move.png"
+    second.write_bytes(b"old picture")
+    with staged_files() as stage:
+        one = stage.path(first)
+        two = stage.path(second)
+        assert one.parent == tmp_path and two.parent == tmp_path
+        assert one.suffix == ".csv" and two.suffix == ".png"  # tools that sniff the suffix
+        one.write_bytes(b"csv")
+        two.write_bytes(b"png")
+        # Nothing is visible before the block ends.
+        assert not first.exists()
+        assert second.read_bytes() == b"old picture"
+        assert stage.targets == [first, second]
+    assert first.read_bytes() == b"csv"
+    assert second.read_bytes() == b"png"
+    assert _names(tmp_path) == ["move.csv", "move.png"]
+
+
+def test_staged_files_vanish_when_the_block_fails(tmp_path: Path) -> None:
+    kept = tmp_path / "kept.csv"
+    kept.write_bytes(b"precious")
+    with pytest.raises(WriterFailed), staged_files() as stage:
+        stage.path(kept).write_bytes(b"half")
+        stage.path(tmp_path / "new.png").write_bytes(b"half")
+        raise WriterFailed
+    assert kept.read_bytes() == b"precious"
+    assert _names(tmp_path) == ["kept.csv"]
+
+
+def test_staged_files_refuse_a_missing_folder_at_once(tmp_path: Path) -> None:
+    with pytest.raises(FileNotFoundError, match="does not exist"), staged_files() as stage:
+        stage.path(tmp_path / "missing" / "out.csv")
+    assert _names(tmp_path) == []
+
+
+def test_staged_files_get_the_usual_permissions(tmp_path: Path) -> None:
+    old_umask = os.umask(0o022)
+    try:
+        with staged_files() as stage:
+            stage.path(tmp_path / "out.csv").write_bytes(b"x")
+    finally:
+        os.umask(old_umask)
+    assert stat.S_IMODE((tmp_path / "out.csv").stat().st_mode) == 0o644
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="BUG: staged_files renames the temporaries one by one after the block and "
+    "cleans up only if the block itself raises: when a rename fails (e.g. a target is a "
+    "directory) earlier targets are already replaced and later temporaries stay on disk",
+)
+def test_staged_files_failing_commit_leaves_no_temporaries_and_no_partial_group(
+    tmp_path: Path,
+) -> None:
+    first = tmp_path / "a.csv"
+    first.write_bytes(b"old")
+    (tmp_path / "b.png").mkdir()  # the second rename must fail
+    with pytest.raises(OSError), staged_files() as stage:
+        stage.path(first).write_bytes(b"new")
+        stage.path(tmp_path / "b.png").write_bytes(b"img")
+    assert _names(tmp_path) == ["a.csv", "b.png"]  # no temporary left behind
+    assert first.read_bytes() == b"old"  # all or nothing
