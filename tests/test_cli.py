@@ -202,7 +202,7 @@ def test_plan_trapezoid_time_sync_names_limiting_joint(capsys):
     ],
 )
 def test_plan_trapezoid_errors(argv, message, capsys):
-    status, out, err = run(capsys, "plan", "trapezoid", "--q0", "0", "--qf", "1", *argv)
+    status, _, err = run(capsys, "plan", "trapezoid", "--q0", "0", "--qf", "1", *argv)
     assert status == 2
     assert message in err
     assert err.count("\n") == 1

@@ -118,32 +118,17 @@ def test_invalid_samples_are_refused(kwargs: dict, match: str) -> None:
     assert type(excinfo.value) is InvalidInputError
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: the joint-name pattern ends in '$', which also matches before a final "
-    "newline, so 'q1\\n' is accepted and to_csv writes a header from_csv cannot read",
-)
 def test_a_joint_name_with_a_trailing_newline_is_refused() -> None:
     with pytest.raises(InvalidInputError, match=r"joint name"):
         make(2, 1, names=("q1\n",))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: unit accepts control characters (newline, NUL), which break the CSV "
-    "header line (and NUL is dropped by the NPZ string array)",
-)
 @pytest.mark.parametrize("unit", ["r\nad", "rad\r", "rad\x00", "rad\u2028"])
 def test_a_unit_with_control_characters_is_refused(unit: str) -> None:
     with pytest.raises(InvalidInputError, match=r"unit must be a short text"):
         make(2, 1, unit=unit)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: Samples accepts zero joints (q of shape (n, 0)); to_csv then writes a "
-    "header 't [s]' that from_csv refuses. Trajectory itself refuses zero joints.",
-)
 def test_zero_joints_are_refused() -> None:
     empty = np.zeros((2, 0))
     with pytest.raises(InvalidInputError, match=r"joint"):
@@ -343,11 +328,6 @@ def test_malformed_json_is_refused(change: Callable, match: str, tmp_path: Path)
     assert str(path) in str(excinfo.value)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: from_json calls tuple(document['names']) unguarded: a null or numeric "
-    "'names' raises TypeError instead of InvalidInputError",
-)
 @pytest.mark.parametrize("names", [None, 5])
 def test_json_names_that_are_not_a_list_are_refused(names: object, tmp_path: Path) -> None:
     path = tmp_path / "bad.json"
@@ -396,11 +376,6 @@ def test_malformed_npz_is_refused(tmp_path: Path) -> None:
     assert Samples.from_npz(good).names == ("q1",)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: from_npz iterates content['names'] unguarded: a 0-d names array raises "
-    "TypeError ('iteration over a 0-d array') instead of InvalidInputError",
-)
 def test_npz_with_scalar_names_is_refused_or_read(tmp_path: Path) -> None:
     path = tmp_path / "scalar_names.npz"
     _write_npz(path, names=np.array("q1"))

@@ -280,12 +280,6 @@ def test_zero_duration_standstill() -> None:
         Trajectory([2.0, 2.0, 3.0], np.ones((1, 2, 1)))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: then() concatenates breakpoints unconditionally, so joining a zero-duration "
-    "standstill ([t, t]) produces a repeated breakpoint and fails with 'breakpoints must be "
-    "strictly increasing'",
-)
 def test_then_with_a_zero_duration_standstill() -> None:
     move = Trajectory([0.0, 2.0], [[[0.5]], [[1.0]]])  # from 1 to 2 at 0.5 per second
     still = Trajectory([7.0, 7.0], [[[2.0]]])  # at 2, zero duration
@@ -338,11 +332,6 @@ def test_evaluate_refuses_bad_times(t: object, match: str) -> None:
         tr.evaluate(t)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: evaluate() converts t with np.asarray(t, dtype=float64) unguarded: a "
-    "non-numeric t raises numpy's bare ValueError/TypeError, not InvalidInputError naming t",
-)
 @pytest.mark.parametrize("t", ["abc", ["a", "b"], [1 + 2j], object()])
 def test_evaluate_refuses_non_numeric_times(t: object) -> None:
     tr = cubic_rest_to_rest([0.0], [1.0], 1.0)
@@ -640,11 +629,6 @@ def test_then_allows_a_position_mismatch_within_atol() -> None:
     np.testing.assert_array_equal(joined.position([0.5, 1.0, 1.5]), [[1.0], [1.0001], [1.0001]])
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: then() tests only the joint with the largest absolute jump against a "
-    "tolerance scaled by that joint's value, so a large joint hides a mismatch on another",
-)
 def test_then_detects_a_position_mismatch_on_every_joint() -> None:
     # Joint 1 sits at 100 and differs by 5e-8 (inside atol * (1 + 100) = 1.01e-7);
     # joint 2 sits at 0 and differs by 1e-8 > atol = 1e-9. Alone, joint 2 is refused.
@@ -962,11 +946,6 @@ def test_extrema_find_an_interior_peak_between_samples() -> None:
     assert found.time_of_maximum[0] == pytest.approx(0.125, rel=CLOSED_FORM)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: extrema() reports a piece-end time as breakpoints[i] + (breakpoints[i+1] - "
-    "breakpoints[i]), which can round one ulp past breakpoints[i+1] (even past end_time)",
-)
 def test_extrema_times_at_a_piece_end_are_exact() -> None:
     # q = t on [0, 0.9] in two pieces: the maximum 0.9 is at the end time, 0.9 exactly.
     # 0.3 + (0.9 - 0.3) == 0.9000000000000001 in floating point.
@@ -981,11 +960,6 @@ def test_extrema_times_at_a_piece_end_are_exact() -> None:
     assert jump.extrema(0).time_of_maximum[0] == 0.9
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: extrema() does not validate order (negative silently gives the position, "
-    "1.5 is truncated, True is read as 1, a string raises TypeError)",
-)
 @pytest.mark.parametrize("order", [-1, 1.5, True, "1"])
 def test_extrema_refuses_bad_orders(order: object) -> None:
     tr = cubic_rest_to_rest([0.0], [1.0], 1.0)

@@ -29,6 +29,10 @@ class Bounds:
     lower: FloatArray
     upper: FloatArray
 
+    def __post_init__(self) -> None:
+        for value in (self.lower, self.upper):
+            value.setflags(write=False)
+
     def for_ndof(self, name: str, ndof: int) -> tuple[FloatArray, FloatArray]:
         """Bounds broadcast to ``(ndof,)``; refuses a per-joint length that differs."""
         out = []

@@ -75,7 +75,14 @@ class Samples:
             array.setflags(write=False)
             object.__setattr__(self, name, array)
         t.setflags(write=False)
-        if not isinstance(self.unit, str) or not self.unit or any(c in self.unit for c in "[],"):
+        if ndof == 0:
+            raise InvalidInputError("samples need at least one joint, got q of shape (n, 0)")
+        if (
+            not isinstance(self.unit, str)
+            or not self.unit
+            or not self.unit.isprintable()
+            or any(c in self.unit for c in "[],")
+        ):
             raise InvalidInputError(
                 f"unit must be a short text like 'rad' or 'm', got {self.unit!r}"
             )
@@ -83,7 +90,7 @@ class Samples:
         if len(names) != ndof:
             raise InvalidInputError(f"names gives {len(names)} labels for {ndof} joints")
         for label in names:
-            if not isinstance(label, str) or not _NAME.match(label):
+            if not isinstance(label, str) or not _NAME.fullmatch(label):
                 raise InvalidInputError(
                     f"joint name {label!r} must start with a letter and hold only letters, "
                     "digits, '_', '.' or '-'"
@@ -214,6 +221,8 @@ class Samples:
         missing = [key for key in ("t", *_FIELDS, "unit", "names") if key not in document]
         if missing:
             raise InvalidInputError(f"{source}: missing key(s) {', '.join(missing)}")
+        if not isinstance(document["names"], list):
+            raise InvalidInputError(f"{source}: 'names' must be a list of joint names")
         try:
             return cls(
                 document["t"],
@@ -248,6 +257,8 @@ class Samples:
         missing = [k for k in ("t", *_FIELDS, "unit", "names") if k not in content]
         if missing:
             raise InvalidInputError(f"{source}: missing array(s) {', '.join(missing)}")
+        if content["names"].ndim != 1:
+            raise InvalidInputError(f"{source}: 'names' must be a 1-D array of joint names")
         try:
             return cls(
                 content["t"],

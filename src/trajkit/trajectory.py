@@ -167,7 +167,11 @@ class Trajectory:
 
     @property
     def info(self) -> Mapping[str, Any]:
-        """Plan data attached by the planner (read-only mapping; may be empty)."""
+        """Plan data attached by the planner (read-only mapping; may be empty).
+
+        It describes the plan as made: trajectories derived by :meth:`then`,
+        :meth:`time_scaled` or :meth:`derivative` carry none.
+        """
         return self._info
 
     @property
@@ -229,13 +233,10 @@ class Trajectory:
         ndarray
             Shape ``(ndof,)`` for a scalar ``t``, ``(n, ndof)`` for a 1-D ``t``.
         """
-        if isinstance(order, bool) or not isinstance(order, int | np.integer) or order < 0:
-            raise InvalidInputError(f"order must be a whole number >= 0, got {order!r}")
-        times = np.asarray(t, dtype=np.float64)
+        _check_order(order)
+        times = finite_array("t", t, unit="s")
         if times.ndim > 1:
             raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
-        if not np.isfinite(times).all():
-            raise InvalidInputError("t must be finite (no NaN or inf)")
         c = self._joint_major(int(order))
         bp = self._breakpoints
         clamped = np.clip(np.atleast_1d(times), bp[0], bp[-1])
@@ -281,7 +282,9 @@ class Trajectory:
 
         The times are ``start_time + i * dt`` (no accumulated rounding) and the end
         time is always the last sample, exactly; when the duration is not a whole
-        multiple of ``dt`` the last interval is shorter.
+        multiple of ``dt`` the last interval is shorter (a grid point within
+        ``1e-9 dt`` of the end is moved onto it, so that interval may be longer by
+        that much).
 
         Parameters
         ----------
@@ -311,8 +314,7 @@ class Trajectory:
     # ---------------------------------------------------------------- algebra
     def derivative(self, order: int = 1) -> Trajectory:
         """The ``order``-th time derivative as a new Trajectory on the same breakpoints."""
-        if isinstance(order, bool) or not isinstance(order, int | np.integer) or order < 0:
-            raise InvalidInputError(f"order must be a whole number >= 0, got {order!r}")
+        _check_order(order)
         return Trajectory(self._breakpoints, self._coefficients_of(int(order)))
 
     def time_scaled(self, factor: float) -> Trajectory:
@@ -327,7 +329,6 @@ class Trajectory:
         return Trajectory(
             bp[0] + (bp - bp[0]) * scale,
             _poly.scale_argument(self._coefficients, 1.0 / scale),
-            info=self._info,
         )
 
     def then(self, other: Trajectory, *, atol: float = 1e-9) -> Trajectory:
@@ -340,7 +341,9 @@ class Trajectory:
         other : Trajectory
             Must have the same ``ndof`` and start where this one ends.
         atol : float
-            Allowed position mismatch at the junction (same unit as the positions).
+            Allowed position mismatch at the junction, relative: joint ``j`` may
+            differ by ``atol * (1 + |q_j|)``. Velocity and acceleration jumps above
+            ``1e-9 * (1 + |value|)`` are warned about.
 
         Raises
         ------
@@ -362,9 +365,10 @@ class Trajectory:
         end, start = self.end_state, other.start_state
         for order, name in enumerate(_QUANTITY[:3]):
             a, b = getattr(end, name), getattr(start, name)
-            jump = np.abs(b - a)
-            worst = int(np.argmax(jump))
-            if jump[worst] <= tol * (1.0 + abs(a[worst])):
+            # Each joint against its own allowance: a large joint must not hide a small one.
+            excess = np.abs(b - a) / ((tol if order == 0 else 1e-9) * (1.0 + np.abs(a)))
+            worst = int(np.argmax(excess))
+            if excess[worst] <= 1.0:
                 continue
             message = (
                 f"{name} jumps by {b[worst] - a[worst]:.6g} at joint {worst + 1} "
@@ -373,6 +377,12 @@ class Trajectory:
             if order == 0:
                 raise InvalidInputError(f"cannot join trajectories: {message}")
             warnings.warn(message, ContinuityWarning, stacklevel=2)
+        # A zero-duration standstill adds no piece.
+        if other.duration == 0.0:
+            return Trajectory(self._breakpoints, self._coefficients)
+        if self.duration == 0.0:
+            offset = self.end_time - other.start_time
+            return Trajectory(other._breakpoints + offset, other._coefficients)
         degree = max(self.degree, other.degree)
         c = np.concatenate([_pad(self._coefficients, degree), _pad(other._coefficients, degree)], 1)
         offset = self.end_time - other.start_time
@@ -394,9 +404,11 @@ class Trajectory:
         """Exact per-joint minimum and maximum of the ``order``-th derivative.
 
         Found from the roots of the next derivative on every piece (not by sampling),
-        together with the piece ends.
+        together with the piece ends. Each piece counts on its closed interval, so at
+        a jump the values approached from both sides are considered.
         """
-        c = self._coefficients_of(order)
+        _check_order(order)
+        c = self._coefficients_of(int(order))
         k1, m, ndof = c.shape
         lengths = np.repeat(np.diff(self._breakpoints), ndof)
         low, x_low, high, x_high = _poly.extrema_on_intervals(c.reshape(k1, m * ndof), lengths)
@@ -404,13 +416,14 @@ class Trajectory:
         high, x_high = high.reshape(m, ndof), x_high.reshape(m, ndof)
         joints = np.arange(ndof)
         i_low, i_high = np.argmin(low, axis=0), np.argmax(high, axis=0)
-        starts = self._breakpoints[:-1]
+        starts, stops = self._breakpoints[:-1], self._breakpoints[1:]
+        # Clip: start + length can round one ulp past the piece's end.
         return Extrema(
             order=int(order),
             minimum=low[i_low, joints],
-            time_of_minimum=starts[i_low] + x_low[i_low, joints],
+            time_of_minimum=np.minimum(starts[i_low] + x_low[i_low, joints], stops[i_low]),
             maximum=high[i_high, joints],
-            time_of_maximum=starts[i_high] + x_high[i_high, joints],
+            time_of_maximum=np.minimum(starts[i_high] + x_high[i_high, joints], stops[i_high]),
         )
 
     def check(self, limits: Limits, *, rtol: float = 1e-9) -> Report:
@@ -418,6 +431,11 @@ class Trajectory:
         from trajkit.limits import check
 
         return check(self, limits, rtol=rtol)
+
+
+def _check_order(order: object) -> None:
+    if isinstance(order, bool) or not isinstance(order, int | np.integer) or order < 0:
+        raise InvalidInputError(f"order must be a whole number >= 0, got {order!r}")
 
 
 def _pad(c: FloatArray, degree: int) -> FloatArray:

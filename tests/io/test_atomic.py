@@ -203,12 +203,6 @@ def test_staged_files_get_the_usual_permissions(tmp_path: Path) -> None:
     assert stat.S_IMODE((tmp_path / "out.csv").stat().st_mode) == 0o644
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: staged_files renames the temporaries one by one after the block and "
-    "cleans up only if the block itself raises: when a rename fails (e.g. a target is a "
-    "directory) earlier targets are already replaced and later temporaries stay on disk",
-)
 def test_staged_files_failing_commit_leaves_no_temporaries_and_no_partial_group(
     tmp_path: Path,
 ) -> None:

@@ -114,6 +114,19 @@ def staged_files() -> Iterator[StagedFiles]:
             with contextlib.suppress(OSError):
                 os.unlink(temporary)
         raise
-    for temporary, target in stage._pending:
-        os.chmod(temporary, _mode_for(target))
-        os.replace(temporary, target)
+    pending = list(stage._pending)
+    try:
+        for _, target in pending:
+            if target.is_dir():
+                raise IsADirectoryError(f"cannot write {target}: it is a folder")
+        while pending:
+            temporary, target = pending[0]
+            os.chmod(temporary, _mode_for(target))
+            os.replace(temporary, target)
+            pending.pop(0)
+    except BaseException:
+        # A rename failed midway (rare: checked above): remove what was not placed.
+        for temporary, _ in pending:
+            with contextlib.suppress(OSError):
+                os.unlink(temporary)
+        raise

@@ -529,8 +529,122 @@ def _inputs(*arrays):
     return np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays))
 
 
+def _every_region_durations(D, v0, vf, V) -> FloatArray:
+    """Durations of the valid candidates of every region (normalized), ``inf`` elsewhere.
+
+    The exhaustive reference of :func:`minimum_time`: all 16 sign/saturation
+    regions of the no-coast case (including ``s1 = s3``, whose profiles are never
+    the fastest), the coasts and the standstill. Shape ``(..., K)``.
+    """
+    D, v0, vf, V = _inputs(D, v0, vf, V)
+    with np.errstate(all="ignore"):
+        cand = _concat(_coasts(D, v0, vf, V) + _no_coast(D, v0, vf))
+        valid = cand["valid"] & (np.abs(cand["vp"]) <= _e(V) * (1 + _SLACK))
+        duration = 2 * cand["tj1"] + cand["ta1"] + cand["tv"] + 2 * cand["tj2"] + cand["ta2"]
+    return np.where(valid, duration, np.inf)
+
+
+def _side(D, hi, lo, V):
+    """Candidates with the peak above both boundary velocities (``vp >= hi >= lo``).
+
+    The distance of the two changes is symmetric in the boundary velocities, so
+    only ``hi = max(v0, vf)`` and ``lo = min(v0, vf)`` matter. With ``vp`` rising
+    from ``hi`` the changes are: both unsaturated (``vp <= lo + 1``), the one from
+    ``lo`` saturated, both saturated (``vp >= hi + 1``); beyond, a coast at ``V``.
+    Returns jerk and hold times of the change from ``hi`` and from ``lo``, ``vp``,
+    coast time, duration and validity, each of shape ``(..., 11)``.
+    """
+    D_, hi_, lo_, V_ = _e(D), _e(hi), _e(lo), _e(V)
+    c, w = hi - lo, hi + lo
+    c_, w_ = _e(c), _e(w)
+    # Both unsaturated: quartic in u = x_lo + x_hi (x_lo^2 - x_hi^2 = c); duration 2 u.
+    u = _quartic_roots(0 * D, 4 * w, -4 * D, -c * c)
+
+    def h(u):
+        return ((u * u / 4 + w_) * u - D_) * u - c_ * c_ / 4, (u * u + 2 * w_) * u - D_
+
+    u = _newton(h, u)
+    value, _ = h(u)
+    ratio = _safe_div(c_ + 0 * u, u)
+    x_lo, x_hi = (u + ratio) / 2, (u - ratio) / 2
+    scale = (np.abs(D_) + np.abs(w_) * u + u**3 / 4) * u + c_ * c_ / 4
+    vp_free = hi_ + x_hi * x_hi
+    ok_free = (
+        (u > 0)
+        & (x_hi >= -_SLACK * u)
+        & (x_lo <= 1 + _SLACK)
+        & (np.abs(value) <= _RESIDUAL * scale)
+        & (vp_free <= V_ * (1 + _SLACK))
+    )
+    # Change from lo saturated, from hi not: quartic in x = x_hi.
+    x = _quartic_roots(2 + 0 * D, 2 * hi + 1, 4 * hi, w * (c + 1) - 2 * D)
+
+    def g(x):
+        vp = hi_ + x * x
+        value = (2 * hi_ + x * x) * x + (vp + lo_) * (c_ + x * x + 1) / 2 - D_
+        return value, 2 * hi_ + 3 * x * x + x * (1 + 2 * vp)
+
+    x = _newton(g, x)
+    value, _ = g(x)
+    vp_one = hi_ + x * x
+    d_lo = c_ + x * x
+    scale = np.abs(D_) + np.abs((2 * hi_ + x * x) * x) + np.abs((vp_one + lo_) * (d_lo + 1))
+    ok_one = (
+        (x >= -_SLACK)
+        & (x <= 1 + _SLACK)
+        & (d_lo >= 1 - _SLACK * (1 + np.abs(vp_one)))
+        & (np.abs(value) <= _RESIDUAL * scale)
+        & (vp_one <= V_ * (1 + _SLACK))
+    )
+    x = np.clip(x, 0.0, 1.0)
+    # Both saturated: vp^2 + vp + C = 0.
+    C = -(hi * hi + lo * lo) / 2 + w / 2 - D
+    vp_sat = np.stack(_quadratic(1.0 + 0 * C, C), axis=-1)
+
+    def g_sat(vp):
+        first, second = (lo_ + vp) * (vp - lo_ + 1) / 2, (hi_ + vp) * (vp - hi_ + 1) / 2
+        return first + second - D_, 2 * vp + 1, np.abs(D_) + np.abs(first) + np.abs(second)
+
+    value, slope, _ = g_sat(vp_sat)
+    vp_sat = vp_sat - _safe_div(value, slope)
+    value, _, scale = g_sat(vp_sat)
+    ok_sat = (
+        (vp_sat - hi_ >= 1 - _SLACK * (1 + np.abs(vp_sat)))
+        & (vp_sat <= V_ * (1 + _SLACK))
+        & (np.abs(value) <= _RESIDUAL * scale)
+    )
+    # Coast at V.
+    tj_h, ta_h, _, t_h, x_h = _change(hi, V)
+    tj_l, ta_l, _, t_l, x_l = _change(lo, V)
+    tv = (D - x_h - x_l) / V
+    ok_coast = tv * V >= -_SLACK * (np.abs(D) + np.abs(x_h) + np.abs(x_l))
+    tv = np.maximum(tv, 0.0)
+
+    one, zero = np.ones_like(u), np.zeros_like(u)
+    d_h_sat, d_l_sat = np.maximum(vp_sat - hi_, 1.0), np.maximum(vp_sat - lo_, 1.0)
+    tj_hi = np.concatenate([np.clip(x_hi, 0.0, 1.0), x, one[..., :2], _e(tj_h)], axis=-1)
+    ta_hi = np.concatenate([zero, zero, d_h_sat - 1, _e(ta_h)], axis=-1)
+    tj_lo = np.concatenate([np.clip(x_lo, 0.0, 1.0), one, one[..., :2], _e(tj_l)], axis=-1)
+    ta_lo = np.concatenate([zero, np.maximum(d_lo - 1, 0.0), d_l_sat - 1, _e(ta_l)], axis=-1)
+    vp = np.concatenate([vp_free, vp_one, vp_sat, V_], axis=-1)
+    coast = np.concatenate([zero, zero, zero[..., :2], _e(tv)], axis=-1)
+    duration = np.concatenate(
+        [2 * u, 2 * x + d_lo + 1, d_h_sat + d_l_sat + 2, _e(t_h + t_l + tv)], axis=-1
+    )
+    valid = np.concatenate([ok_free, ok_one, ok_sat, _e(ok_coast)], axis=-1)
+    return tj_hi, ta_hi, tj_lo, ta_lo, vp, coast, np.where(valid, duration, np.inf)
+
+
 def minimum_time(D, v0, vf, V, A, J) -> SCurvePhases:
     """Time-optimal double-S profile of every element.
+
+    The peak lies above both boundary velocities (rise then fall) or below both
+    (fall then rise, solved as the mirrored problem); each side has at most four
+    candidate structures (see :func:`_side`) and the standstill ``D = 0, v0 = vf``
+    takes no time. Profiles whose peak lies between ``v0`` and ``vf`` without a
+    coast are never faster (three jerk switches between constraint arcs, beyond
+    the two a time-optimal triple integrator needs) and are not searched; the
+    exhaustive search over every region (``_every_region_durations``) confirms it.
 
     Parameters
     ----------
@@ -551,14 +665,45 @@ def minimum_time(D, v0, vf, V, A, J) -> SCurvePhases:
     ds = vs * A / J
     with np.errstate(all="ignore"):
         Dn, v0n, vfn, Vn = D / ds, v0 / vs, vf / vs, V / vs
-        cand = _concat(_coasts(Dn, v0n, vfn, Vn) + _no_coast(Dn, v0n, vfn))
-        cand["valid"] = cand["valid"] & (np.abs(cand["vp"]) <= _e(Vn) * (1 + _SLACK))
-        cand["vp"] = np.clip(cand["vp"], -_e(Vn), _e(Vn))
-        duration = 2 * cand["tj1"] + cand["ta1"] + cand["tv"] + 2 * cand["tj2"] + cand["ta2"]
-        best, duration = _pick(cand, duration)
-    best["j1"] = np.where(best["a1"] != 0, np.sign(best["a1"]), 0.0)
-    best["j2"] = np.where(best["a2"] != 0, np.sign(best["a2"]), 0.0)
-    return _to_physical(best, duration, V, A, J)
+        hi, lo = np.maximum(v0n, vfn), np.minimum(v0n, vfn)
+        # Side 0: peak above (as given); side 1: the mirrored problem.
+        fields = _side(
+            np.stack([Dn, -Dn], axis=-1),
+            np.stack([hi, -lo], axis=-1),
+            np.stack([lo, -hi], axis=-1),
+            np.stack([Vn, Vn], axis=-1),
+        )
+        fields = [f.reshape(*f.shape[:-2], -1) for f in fields]
+        duration = fields[-1]
+        count = duration.shape[-1]
+        index = np.argmin(duration, axis=-1)[..., np.newaxis]
+        tj_h, ta_h, tj_l, ta_l, vp, tv, duration = (
+            np.take_along_axis(f, index, axis=-1)[..., 0] for f in fields
+        )
+    index = index[..., 0]
+    sign = np.where(index < count // 2, 1.0, -1.0)
+    valid = np.isfinite(duration)
+    # The standstill: nothing to do.
+    still = (Dn == 0) & (v0n == vfn)
+    valid |= still
+    # The change leaving v0 is the one from hi (side 0) or from -lo (side 1).
+    first_hi = np.where(sign > 0, v0n >= vfn, v0n <= vfn)
+    n = {
+        "vp": np.where(still, v0n, sign * vp),
+        "tj1": np.where(first_hi, tj_h, tj_l),
+        "ta1": np.where(first_hi, ta_h, ta_l),
+        "tj2": np.where(first_hi, tj_l, tj_h),
+        "ta2": np.where(first_hi, ta_l, ta_h),
+        "tv": tv,
+        "valid": valid,
+    }
+    for name in ("tj1", "ta1", "tj2", "ta2", "tv"):
+        n[name] = np.where(still | ~valid, 0.0, n[name])
+    duration = np.where(still, 0.0, duration)
+    n["a1"], n["a2"] = sign * n["tj1"], -sign * n["tj2"]
+    n["j1"] = np.where(n["tj1"] > 0, sign, 0.0)
+    n["j2"] = np.where(n["tj2"] > 0, -sign, 0.0)
+    return _to_physical(n, duration, V, A, J)
 
 
 # ------------------------------------------------------------------- fixed duration
