@@ -26,6 +26,7 @@ from trajkit.profiles import (
     polynomial,
     quintic,
     quintic_via,
+    scurve,
     septic,
     trapezoidal,
 )
@@ -58,6 +59,7 @@ __all__ = [
     "polynomial",
     "quintic",
     "quintic_via",
+    "scurve",
     "septic",
     "trapezoidal",
 ]

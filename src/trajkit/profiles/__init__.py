@@ -2,6 +2,7 @@
 
 from trajkit.profiles.blend import blended
 from trajkit.profiles.polynomial import cubic, polynomial, quintic, septic
+from trajkit.profiles.scurve import scurve
 from trajkit.profiles.trapezoidal import trapezoidal
 from trajkit.profiles.via import cubic_spline, cubic_via, quintic_via
 
@@ -13,6 +14,7 @@ __all__ = [
     "polynomial",
     "quintic",
     "quintic_via",
+    "scurve",
     "septic",
     "trapezoidal",
 ]

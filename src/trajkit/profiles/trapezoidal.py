@@ -23,6 +23,7 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import LimitSpec, parse_bounds
 from trajkit.profiles import _trapezoid_math as math
 from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
+from trajkit.profiles._sync import common_duration
 from trajkit.trajectory import Trajectory
 
 __all__ = ["Sync", "TrapezoidSolution", "solve_trapezoid", "trapezoidal"]
@@ -112,56 +113,12 @@ _PHASE_FIELDS = ("t1", "t2", "t3", "a1", "a3", "vp", "valid")
 
 
 def _common_duration(T: FloatArray, args: tuple[FloatArray, ...]) -> tuple[FloatArray, math.Phases]:
-    """Smallest duration >= ``T`` that every joint can take exactly, and its phases.
+    """Smallest duration >= ``T`` every joint can take exactly (see :func:`common_duration`).
 
-    ``T`` has the leading shape; ``args`` are ``(D, v0, vf, vpos, vneg, apos, aneg)``
-    with joints last. At rest at both ends every ``T`` above the minima works. With
-    moving boundaries a joint may be unable to take some durations (a blocked
-    interval); the next duration it can take is found among the durations where
-    the families of profiles begin (:func:`math.duration_candidates`), else by a
-    logarithmic scan refined by bisection.
+    The trapezoid's profile families begin at known durations
+    (:func:`math.duration_candidates`): they are tried first.
     """
-    phases = _exact_duration(T[..., np.newaxis], args)
-    blocked = ~phases.valid.all(axis=-1)
-    if not blocked.any():
-        return T, phases
-    shape = phases.t1.shape  # leading + joints
-    flat_T = np.array(np.broadcast_to(T, shape[:-1]), dtype=float).reshape(-1)
-    flat_blocked = blocked.reshape(-1)
-    sub = tuple(np.broadcast_to(a, shape).reshape(-1, shape[-1])[flat_blocked] for a in args)
-    start = flat_T[flat_blocked]
-    candidates = math.duration_candidates(*sub).reshape(start.size, -1)
-    # Also a scan, for blocked intervals that end where gentler accelerations begin.
-    scan = start[:, np.newaxis] * (1.0 + np.geomspace(1e-9, 1e3, 240))
-    candidates = np.concatenate([candidates, scan], axis=-1)
-    candidates = np.where(candidates >= start[:, np.newaxis], candidates, np.inf)
-    candidates = np.sort(candidates, axis=-1)
-    feasible = lambda durations: _exact_duration(  # noqa: E731
-        durations[..., np.newaxis], tuple(a[:, np.newaxis, :] for a in sub)
-    ).valid.all(axis=-1)
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        works = feasible(candidates) & np.isfinite(candidates)
-    if not works.any(axis=-1).all():
-        raise InfeasibleError(
-            "no common duration lets every joint meet its boundary velocities exactly; "
-            "try sync=None or different boundary velocities"
-        )
-    first = np.argmax(works, axis=-1)
-    rows = np.arange(first.size)
-    high = candidates[rows, first]
-    low = np.where(first > 0, candidates[rows, np.maximum(first - 1, 0)], start)
-    low = np.where(np.isfinite(low), low, start)
-    # Bisection between the last blocked and the first feasible duration.
-    for _ in range(60):
-        middle = 0.5 * (low + high)
-        ok = feasible(middle[:, np.newaxis])[:, 0]
-        high = np.where(ok, middle, high)
-        low = np.where(ok, low, middle)
-        if np.all(high - low <= 1e-13 * high):
-            break
-    flat_T[flat_blocked] = high
-    T = flat_T.reshape(shape[:-1])
-    return T, _exact_duration(T[..., np.newaxis], args)
+    return common_duration(T, args, _exact_duration, math.duration_candidates)
 
 
 def _at_rest(velocity: FloatArray) -> bool:

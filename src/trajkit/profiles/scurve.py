@@ -1,0 +1,352 @@
+"""Jerk-limited double-S (S-curve) profiles: time-optimal, synchronized, quantized.
+
+The one-axis mathematics lives in :mod:`trajkit.profiles._scurve_math`; this
+module validates input, synchronizes joints, quantizes to a controller period and
+builds the :class:`~trajkit.Trajectory`. The vectorized core :func:`solve_scurve`
+also serves :func:`trajkit.batch.scurve`.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import (
+    FloatArray,
+    count_dof,
+    joint_vector,
+    positive_joint_vector,
+    positive_scalar,
+)
+from trajkit.errors import InfeasibleError
+from trajkit.profiles import _scurve_math as smath
+from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
+from trajkit.profiles._sync import common_duration
+from trajkit.profiles.trapezoidal import Sync, _phase_law, _read_sync
+from trajkit.trajectory import Trajectory
+
+__all__ = ["SCurveSolution", "quantize_scurve", "scurve", "solve_scurve"]
+
+_OFFSETS = (-1, 0, 1)  # whole periods tried around each continuous phase time
+_MAX_EXTRA_PERIODS = 16
+
+
+class SCurveSolution:
+    """Seven phases per joint (rise, hold, fall, coast, rise, hold, fall).
+
+    ``durations`` and ``jerks`` have shape ``(..., ndof, 7)``; ``peak_velocity``
+    ``(..., ndof)``; ``duration`` the common duration; ``own`` each joint's minimum
+    alone; ``limiting`` the joint that sets the duration (-1 under phase sync).
+    """
+
+    __slots__ = ("duration", "durations", "jerks", "limiting", "own", "peak_velocity")
+
+    def __init__(self, durations, jerks, peak_velocity, duration, own, limiting) -> None:
+        self.durations, self.jerks, self.peak_velocity = durations, jerks, peak_velocity
+        self.duration, self.own, self.limiting = duration, own, limiting
+
+    @property
+    def accelerations(self) -> FloatArray:
+        """Acceleration at the start of each phase (the profile starts at 0)."""
+        steps = self.durations * self.jerks
+        return np.concatenate(
+            [np.zeros_like(steps[..., :1]), np.cumsum(steps[..., :-1], axis=-1)], axis=-1
+        )
+
+    @property
+    def peak_acceleration(self) -> FloatArray:
+        """Signed peak acceleration of the first and second velocity change, (..., ndof, 2)."""
+        a = self.accelerations
+        return np.stack([a[..., 1], a[..., 5]], axis=-1)
+
+
+def _from_phases(phases: smath.SCurvePhases) -> tuple[FloatArray, FloatArray]:
+    return phases.to_phases()
+
+
+def _exact(T: FloatArray, args: tuple[FloatArray, ...]) -> smath.SCurvePhases:
+    return smath.fixed_duration(T, *args)
+
+
+def solve_scurve(
+    distance: FloatArray,
+    v0: FloatArray,
+    vf: FloatArray,
+    V: FloatArray,
+    A: FloatArray,
+    J: FloatArray,
+    sync: Sync,
+    duration: FloatArray | None = None,
+) -> SCurveSolution:
+    """Vectorized S-curve planning; arguments ``(..., ndof)``, ``duration`` ``(...)``."""
+    args = (distance, v0, vf, V, A, J)
+    fastest = smath.minimum_time(*args)
+    if not fastest.valid.all():
+        raise InfeasibleError("no jerk-limited profile reaches the target within the limits")
+    own = fastest.duration
+    if sync == "phase":
+        law_args = _scurve_law(*args)
+        if duration is None:
+            law = smath.minimum_time(*law_args)
+            T = law.duration
+        else:
+            T, law = common_duration(
+                np.asarray(duration, dtype=float),
+                tuple(x[..., np.newaxis] for x in law_args),
+                _exact,
+            )
+            law = _squeeze(law)
+        durations, jerks = law.to_phases()
+        return SCurveSolution(
+            np.broadcast_to(durations[..., np.newaxis, :], (*distance.shape, 7)).copy(),
+            jerks[..., np.newaxis, :] * distance[..., np.newaxis],
+            law.vp[..., np.newaxis] * distance,
+            T,
+            own,
+            np.full(np.shape(T), -1),
+        )
+    limiting = np.argmax(own, axis=-1)
+    if sync is None and duration is None:
+        durations, jerks = fastest.to_phases()
+        return SCurveSolution(durations, jerks, fastest.vp, own.max(axis=-1), own, limiting)
+    T = own.max(axis=-1) if duration is None else np.asarray(duration, dtype=float)
+    T, phases = common_duration(T, args, _exact)
+    durations, jerks = phases.to_phases()
+    return SCurveSolution(durations, jerks, phases.vp, T, own, limiting)
+
+
+def _squeeze(phases: smath.SCurvePhases) -> smath.SCurvePhases:
+    names = ("vp", "tj1", "ta1", "a1", "j1", "tv", "tj2", "ta2", "a2", "j2", "duration", "valid")
+    return smath.SCurvePhases(*(getattr(phases, n)[..., 0] for n in names))
+
+
+def _scurve_law(distance, v0, vf, V, A, J):
+    """The shared time law ``s: 0 -> 1`` of a phase-synchronized S-curve (symmetric limits)."""
+    one, s_v0, s_vf, s_v, _, s_a, _ = _phase_law(distance, v0, vf, V, V, A, A)
+    moving = distance != 0
+    magnitude = np.where(moving, np.abs(distance), np.inf)
+    s_j = (J / magnitude).min(axis=-1)
+    s_j = np.where(moving.any(axis=-1), s_j, 1.0)
+    return one, s_v0, s_vf, s_v, s_a, s_j
+
+
+def _integer_phases(
+    steps: FloatArray, dt: float, args: tuple[FloatArray, ...]
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Seven phases in whole multiples of ``dt`` summing to ``steps * dt``.
+
+    Around the continuous profile of that duration, nearby step counts of the two
+    velocity changes' jerk and hold phases are tried (the coast takes the rest).
+    Each change keeps its symmetric shape with its own jerk; for given counts the
+    peak velocity follows linearly from the distance and the jerks from the
+    velocity changes. The valid choice of smallest jerk is kept. Returns
+    ``valid``, ``durations`` (..., 7), ``jerks`` (..., 7) and ``vp``.
+    """
+    D, v0, vf, V, A, J = args
+    total = np.broadcast_to(steps * dt, D.shape)
+    smooth = smath.fixed_duration(total, *args)
+    base = [
+        np.round(np.nan_to_num(x) / dt) for x in (smooth.tj1, smooth.ta1, smooth.tj2, smooth.ta2)
+    ]
+    combos = np.array(list(itertools.product(_OFFSETS, repeat=4)), dtype=float)  # (C, 4)
+    e = lambda x: np.asarray(x)[..., np.newaxis]  # noqa: E731
+    nj1, na1, nj2, na2 = (e(b) + combos[:, k] for k, b in enumerate(base))
+    N = e(np.broadcast_to(steps, D.shape))
+    nv = N - 2 * nj1 - na1 - 2 * nj2 - na2
+    T1, T2, tv = (2 * nj1 + na1) * dt, (2 * nj2 + na2) * dt, nv * dt
+    with np.errstate(all="ignore"):
+        vp = (e(D) - e(v0) * T1 / 2 - e(vf) * T2 / 2) / (T1 / 2 + tv + T2 / 2)
+        tj1, ta1, tj2, ta2 = nj1 * dt, na1 * dt, nj2 * dt, na2 * dt
+        j1 = np.where(nj1 > 0, (vp - e(v0)) / (tj1 * (tj1 + ta1)), 0.0)
+        j2 = np.where(nj2 > 0, (e(vf) - vp) / (tj2 * (tj2 + ta2)), 0.0)
+    slack = 1 + 1e-12
+    changes_ok = ((nj1 > 0) | (np.abs(vp - e(v0)) <= 1e-12 * e(V))) & (
+        (nj2 > 0) | (np.abs(e(vf) - vp) <= 1e-12 * e(V))
+    )
+    counts_ok = (nj1 >= 0) & (na1 >= 0) & (nj2 >= 0) & (na2 >= 0) & (nv >= 0)
+    # A hold phase needs jerk phases around it.
+    shape_ok = ((na1 == 0) | (nj1 > 0)) & ((na2 == 0) | (nj2 > 0))
+    valid = counts_ok & shape_ok & changes_ok & np.isfinite(vp)
+    valid &= np.abs(vp) <= e(V) * slack
+    valid &= (np.abs(j1) <= e(J) * slack) & (np.abs(j2) <= e(J) * slack)
+    valid &= (np.abs(j1) * tj1 <= e(A) * slack) & (np.abs(j2) * tj2 <= e(A) * slack)
+    valid &= e(smooth.valid)
+    score = np.where(valid, np.maximum(np.abs(j1), np.abs(j2)), np.inf)
+    pick = np.argmin(score, axis=-1)[..., np.newaxis]
+    take = lambda x: np.take_along_axis(np.broadcast_to(x, score.shape), pick, axis=-1)[..., 0]  # noqa: E731
+    a, b, c, d, v, g1, g2, peak = (take(x) for x in (tj1, ta1, tj2, ta2, tv, j1, j2, vp))
+    zero = np.zeros_like(a)
+    durations = np.stack([a, b, a, v, c, d, c], axis=-1)
+    jerks = np.stack([g1, zero, -g1, zero, g2, zero, -g2], axis=-1)
+    return valid.any(axis=-1), durations, jerks, peak
+
+
+def quantize_scurve(
+    solution: SCurveSolution, dt: float, args: tuple[FloatArray, ...], sync: Sync
+) -> SCurveSolution:
+    """Re-plan so every switching time and the duration are whole multiples of ``dt``.
+
+    Starts from the continuous optimum rounded up to the period and adds periods
+    until whole-step phases keep every limit (per joint for ``sync=None``, common
+    otherwise; under phase sync the shared time law is quantized and scaled).
+    """
+    if sync == "phase":
+        law_args = tuple(np.asarray(x)[..., np.newaxis] for x in _scurve_law(*args))
+        law = quantize_scurve(
+            SCurveSolution(
+                None, None, None, None, np.asarray(solution.duration)[..., np.newaxis], None
+            ),
+            dt,
+            law_args,
+            None,
+        )
+        distance = args[0]
+        return SCurveSolution(
+            np.broadcast_to(law.durations, (*distance.shape, 7)).copy(),
+            law.jerks * distance[..., np.newaxis],
+            law.peak_velocity * distance,
+            law.duration,
+            solution.own,
+            solution.limiting,
+        )
+    per_joint = sync is None
+    target = solution.own if per_joint else solution.duration
+    steps = np.ceil(np.asarray(target) / dt - 1e-9)
+    shape = args[0].shape
+    durations = np.zeros((*shape, 7))
+    jerks = np.zeros((*shape, 7))
+    peak = np.zeros(shape)
+    done = np.zeros(np.shape(steps), bool)
+    for _ in range(_MAX_EXTRA_PERIODS):
+        valid, d, j, vp = _integer_phases(
+            steps if per_joint else np.asarray(steps)[..., np.newaxis], dt, args
+        )
+        ok = valid if per_joint else valid.all(axis=-1)
+        new = ok & ~done
+        mask = new if per_joint else np.broadcast_to(np.asarray(new)[..., np.newaxis], shape)
+        durations[mask], jerks[mask], peak[mask] = d[mask], j[mask], vp[mask]
+        done = done | ok
+        if np.all(done):
+            break
+        steps = np.where(done, steps, steps + 1)
+    else:
+        raise InfeasibleError(
+            f"no jerk-limited profile with phases in whole multiples of dt={dt:g} s keeps "
+            f"the limits within {_MAX_EXTRA_PERIODS} periods of the continuous optimum"
+        )
+    duration = (np.max(steps, axis=-1) if per_joint else steps) * dt
+    return SCurveSolution(durations, jerks, peak, duration, solution.own, solution.limiting)
+
+
+def scurve(
+    q0: ArrayLike,
+    qf: ArrayLike,
+    vmax: ArrayLike,
+    amax: ArrayLike,
+    jmax: ArrayLike,
+    *,
+    v0: ArrayLike = 0.0,
+    vf: ArrayLike = 0.0,
+    duration: float | None = None,
+    sync: Sync = "time",
+    dt: float | None = None,
+) -> Trajectory:
+    """Jerk-limited double-S profile: time-optimal, with zero boundary accelerations.
+
+    Every joint changes velocity with its jerk at ``+-jmax``, its acceleration
+    held at ``+-amax`` when the change is large, coasts at a peak velocity (at
+    ``+-vmax`` when reached) and changes to ``vf``. All shapes are covered: peak
+    velocity or acceleration reached or not, moves that must first brake or
+    overshoot because of ``v0``/``vf``.
+
+    Parameters
+    ----------
+    q0, qf : float or array_like, shape (ndof,)
+        Start and end positions (rad, or m).
+    vmax, amax, jmax : float or array_like
+        Symmetric velocity (rad/s), acceleration (rad/s^2) and jerk (rad/s^3)
+        limits, > 0.
+    v0, vf : float or array_like
+        Boundary velocities (rad/s), within ``vmax``; boundary accelerations are 0.
+    duration : float, optional
+        Exact common duration (s) instead of the shortest.
+    sync : {"time", "phase", None}
+        As in :func:`trajkit.trapezoidal`: ``"time"`` — all joints finish with the
+        slowest (each other joint keeps its jerk and acceleration limits and
+        lowers its peak velocity, or where that cannot give the duration exactly,
+        lowers its jerk); ``"phase"`` — one time law for all joints (straight line
+        in joint space); ``None`` — each joint alone.
+    dt : float, optional
+        Controller period (s): every switching time and the duration become whole
+        multiples of it while all limits still hold.
+
+    Returns
+    -------
+    Trajectory
+        Piecewise cubic. ``info``: ``phase_times`` (per joint the 7 phase
+        durations: rise, hold, fall, coast, rise, hold, fall), ``jerks``,
+        ``peak_velocity``, ``peak_acceleration`` (each velocity change),
+        ``minimum_durations``, ``limiting_joint``.
+
+    Raises
+    ------
+    InvalidInputError
+        NaN/inf, wrong shapes, limits <= 0, unknown sync.
+    InfeasibleError
+        A boundary velocity beyond ``vmax``, a duration below the minimum, or a
+        common duration that no joint set can take.
+    """
+    ndof = count_dof(q0=q0, qf=qf, v0=v0, vf=vf, vmax=vmax, amax=amax, jmax=jmax)
+    start = joint_vector("q0", q0, ndof, unit="rad")
+    end = joint_vector("qf", qf, ndof, unit="rad")
+    start_v = joint_vector("v0", v0, ndof, unit="rad/s")
+    end_v = joint_vector("vf", vf, ndof, unit="rad/s")
+    V = positive_joint_vector("vmax", vmax, ndof, unit="rad/s")
+    A = positive_joint_vector("amax", amax, ndof, unit="rad/s^2")
+    J = positive_joint_vector("jmax", jmax, ndof, unit="rad/s^3")
+    sync = _read_sync(sync)
+    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    for name, values in (("v0", start_v), ("vf", end_v)):
+        bad = np.flatnonzero(np.abs(values) > V)
+        if bad.size:
+            j = bad[0]
+            raise InfeasibleError(
+                f"{name}={values[j]:.6g} rad/s is beyond vmax={V[j]:.6g} rad/s (joint {j + 1})"
+            )
+    args = (end - start, start_v, end_v, V, A, J)
+    requested = None
+    mode = sync
+    if duration is not None:
+        requested = positive_scalar("duration", duration, unit="s")
+        mode = "phase" if sync == "phase" else "time"
+        fastest = solve_scurve(*args, sync=mode)
+        if requested < float(fastest.duration) * (1 - 1e-12):
+            joint = int(np.argmax(fastest.own))
+            raise InfeasibleError(
+                f"duration {requested:.6g} s is below the minimum {float(fastest.duration):.6g} s "
+                f"set by vmax={V[joint]:.6g} rad/s, amax={A[joint]:.6g} rad/s^2 and "
+                f"jmax={J[joint]:.6g} rad/s^3 (joint {joint + 1})"
+            )
+        requested = np.array(max(requested, float(fastest.duration)))
+    solution = solve_scurve(*args, sync=mode, duration=requested)
+    if step is not None:
+        solution = quantize_scurve(solution, step, args, mode)
+    plan = PhasePlan(start, start_v, solution.durations, solution.accelerations, solution.jerks)
+    limiting = int(solution.limiting)
+    info: dict[str, object] = {
+        "planner": "scurve",
+        "sync": sync,
+        "dt": step,
+        "duration": float(solution.duration),
+        "minimum_durations": tuple(float(x) for x in solution.own),
+        "limiting_joint": None if limiting < 0 else limiting,
+        "phase_times": tuple(tuple(float(x) for x in row) for row in solution.durations),
+        "jerks": tuple(tuple(float(x) for x in row) for row in solution.jerks),
+        "peak_velocity": tuple(float(x) for x in solution.peak_velocity),
+        "peak_acceleration": tuple(
+            tuple(float(x) for x in row) for row in solution.peak_acceleration
+        ),
+    }
+    return plan_to_trajectory(plan, float(solution.duration), info)
