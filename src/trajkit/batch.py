@@ -27,6 +27,8 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import _trapezoid_math as math
 from trajkit.profiles._phases import PhasePlan, phase_states, plan_to_trajectory
+from trajkit.profiles.scurve import SCurveSolution, quantize_scurve, solve_scurve
+from trajkit.profiles.scurve import rest_plan as scurve_rest_plan
 from trajkit.profiles.trapezoidal import (
     Sync,
     TrapezoidSolution,
@@ -36,7 +38,7 @@ from trajkit.profiles.trapezoidal import (
 )
 from trajkit.trajectory import Trajectory
 
-__all__ = ["BatchTrajectory", "trapezoidal"]
+__all__ = ["BatchTrajectory", "scurve", "trapezoidal"]
 
 
 class BatchTrajectory:
@@ -285,8 +287,8 @@ def _rest_to_rest(
     own, phases_at = math.rest_plan(distance, *limits)
     T = own.max(axis=0)
     target = own if sync is None else T
-    phases = phases_at(target).transposed()
-    return TrapezoidSolution(None, None, None, T, own.T, None, phases=phases)
+    phases = phases_at(target)
+    return TrapezoidSolution(None, None, None, T, own.T, None, phases=phases, joint_major=True)
 
 
 def trapezoidal(
@@ -362,3 +364,102 @@ def trapezoidal(
         }
 
     return BatchTrajectory(durations, plan, info)
+
+
+def scurve(
+    q0: ArrayLike,
+    qf: ArrayLike,
+    vmax: ArrayLike,
+    amax: ArrayLike,
+    jmax: ArrayLike,
+    *,
+    v0: ArrayLike = 0.0,
+    vf: ArrayLike = 0.0,
+    sync: Sync = "time",
+    dt: float | None = None,
+) -> BatchTrajectory:
+    """Time-optimal jerk-limited (double-S) profiles for ``B`` problems at once.
+
+    Same meaning as :func:`trajkit.scurve`, with every argument of shape
+    ``(B, ndof)`` or broadcastable to it; limits are symmetric magnitudes.
+
+    Returns
+    -------
+    BatchTrajectory
+        ``durations`` (B,); ``info`` with ``minimum_durations`` (B, ndof),
+        ``limiting_joint`` (B,), ``phase_times`` and ``jerks`` (B, ndof, 7),
+        ``peak_velocity`` (B, ndof).
+    """
+    start, end, start_v, end_v = _problems(q0, qf, v0, vf)
+    shape = start.shape
+    limits = []
+    for name, value, unit in (
+        ("vmax", vmax, "rad/s"),
+        ("amax", amax, "rad/s^2"),
+        ("jmax", jmax, "rad/s^3"),
+    ):
+        if isinstance(value, tuple):
+            raise InvalidInputError(
+                f"{name}: S-curve limits are symmetric magnitudes, not (lower, upper)"
+            )
+        upper, _ = _limit_pair(name, value, shape, unit)
+        limits.append(upper)
+    V, A, J = limits
+    sync = _read_sync(sync)
+    for name, values in (("v0", start_v), ("vf", end_v)):
+        if values.any():
+            beyond = np.broadcast_to(np.abs(values) > V, shape)
+            if beyond.any():
+                b, j = np.argwhere(beyond)[0]
+                raise InfeasibleError(
+                    f"{name}={np.broadcast_to(values, shape)[b, j]:.6g} rad/s is beyond vmax "
+                    f"(problem {b}, joint {j + 1})"
+                )
+    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    args = (end - start, np.broadcast_to(start_v, shape), np.broadcast_to(end_v, shape), V, A, J)
+    if sync != "phase" and step is None and not start_v.any() and not end_v.any():
+        solution = _scurve_rest_to_rest(start, end, V, A, J, sync)
+    else:
+        solution = solve_scurve(*args, sync=sync)
+        if step is not None:
+            solution = quantize_scurve(solution, step, args, sync)
+    durations = np.broadcast_to(solution.duration, shape[:1]).copy()
+
+    def plan() -> PhasePlan:
+        return PhasePlan(
+            np.array(start), np.array(np.broadcast_to(start_v, shape)), solution.durations,
+            solution.accelerations, solution.jerks,
+        )  # fmt: skip
+
+    def info() -> dict[str, Any]:
+        return {
+            "planner": "scurve",
+            "sync": sync,
+            "dt": step,
+            "minimum_durations": solution.own,
+            "limiting_joint": solution.limiting,
+            "phase_times": solution.durations,
+            "jerks": solution.jerks,
+            "peak_velocity": solution.peak_velocity,
+        }
+
+    return BatchTrajectory(durations, plan, info)
+
+
+def _scurve_rest_to_rest(
+    start: FloatArray, end: FloatArray, V: FloatArray, A: FloatArray, J: FloatArray, sync: Sync
+) -> SCurveSolution:
+    """Closed forms, joint-major (see :func:`_rest_to_rest`); phases built lazily."""
+    distance = np.ascontiguousarray((end - start).T)
+    columns = [x[:, np.newaxis] if x.ndim == 1 else np.ascontiguousarray(x.T) for x in (V, A, J)]
+    own, phases_at = scurve_rest_plan(distance, *columns)
+    T = own.max(axis=0)
+    target = own if sync is None else T
+
+    def make() -> tuple[FloatArray, ...]:
+        durations, jerks, peak, accelerations = phases_at(target)
+        swap = lambda x: np.swapaxes(x, 0, 1)  # noqa: E731
+        return swap(durations), swap(jerks), peak.T, swap(accelerations)
+
+    limiting = np.argmax(own, axis=0)
+    return SCurveSolution(None, None, None, T, own.T, limiting, make=make)

@@ -18,25 +18,28 @@ arguments: candidate solutions stack on a last axis and the best valid one is
 picked per element, with no Python loop per move (loops run over a fixed, small
 number of cases only).
 
-Minimum time (:func:`minimum_time`) takes the best of
+Minimum time (:func:`minimum_time`). The optimum coasts only at ``vp = +V`` or
+``-V`` (coast time ``(D - f(vp)) / vp >= 0``, ``f(vp)`` the distance of the two
+changes) or has no coast, ``f(vp) = D``. ``f`` is symmetric in ``v0, vf``; with
+the peak above both (``vp >= hi = max(v0, vf)``; below both is the mirrored
+problem ``-D, -v0, -vf``) it is, piece by piece in ``vp``:
 
-* a coast at ``vp = +V`` or ``vp = -V`` (coast time ``(D - f(vp)) / vp >= 0``,
-  where ``f(vp)`` is the distance of the two changes);
-* no coast, ``f(vp) = D``, solved exactly in every region of the signs
-  ``s1 = sign(vp - v0)``, ``s3 = sign(vf - vp)`` and of which change saturates:
-  both saturated: quadratic in ``vp``; one saturated: quartic in the other
-  change's jerk time ``x`` (``vp = va + s x^2``), closed form (Ferrari); both
-  unsaturated with ``s1 = -s3``: quartic in the sum ``u`` of the two jerk times
-  (the duration is ``2 u``); both unsaturated with ``s1 = s3``: degree-6
-  polynomial (companion-matrix eigenvalues, only for the elements where that
-  region exists). Every root is polished by Newton steps on the un-squared
-  region equation and kept when it satisfies the region's constraints;
-* the trivial standstill ``D = 0, v0 = vf`` (duration 0) and the coast at
-  ``vp = v0 = vf``.
+* both changes unsaturated (``vp <= lo + 1``): with the jerk times ``x_lo``,
+  ``x_hi`` (``x_lo^2 - x_hi^2 = hi - lo = c``) and ``u = x_lo + x_hi`` the
+  distance equation times ``u`` is the quartic
+  ``u^4 / 4 + (hi + lo) u^2 - D u - c^2 / 4 = 0``, and the duration is ``2 u``;
+* the change from ``lo`` saturated: quartic in ``x = x_hi`` (``vp = hi + x^2``);
+* both saturated: quadratic in the excess ``vp - hi``.
 
-The regions with ``s1 = +1`` are solved once on four transformed problems: the
-original, the mirrored one (``-D, -v0, -vf``: ``s1 = -1``), the time-reversed one
-(``v0 <-> vf``: the saturated change first) and both; the results are mapped back.
+Quartics are solved in closed form (Ferrari, with a refined factorization), the
+roots polished by Newton steps on the un-squared equation and kept when they
+satisfy their piece's constraints; the best valid candidate wins. Peaks between
+``v0`` and ``vf`` without a coast (``sign(vp - v0) = sign(vf - vp)``) are never
+faster; ``_every_region_durations`` solves all 16 sign/saturation regions,
+including those (the one with both changes unsaturated gives a degree-6
+polynomial, solved by companion-matrix eigenvalues), as a reference for tests.
+
+Fixed duration (:func:`fixed_duration`): see its docstring.
 """
 
 from __future__ import annotations
@@ -64,6 +67,8 @@ _RESIDUAL = 1e-10
 _NEWTON_STEPS = 3
 # Iterations of the bisections of fixed_duration (each halves the bracket).
 _BISECTIONS = 110
+# Elements per block of the vectorized solvers (temporaries stay in cache).
+_BLOCK = 8192
 
 # Candidate fields, in normalized units (A = J = 1).
 _FIELDS = ("vp", "tj1", "ta1", "a1", "tj2", "ta2", "a2", "tv", "valid")
@@ -220,30 +225,36 @@ def _quadratic(B, C):
 
 
 def _cubic_largest_root(a, b, c):
-    """Largest real root of ``m^3 + a m^2 + b m + c`` (Cardano / trigonometric)."""
+    """Largest real root of ``m^3 + a m^2 + b m + c`` (Cardano / trigonometric).
+
+    Polished by a Newton step, kept where it lowers the residual.
+    """
     P = b - a * a / 3
     Q = (2 * a * a / 27 - b / 3) * a + c
     disc = (Q / 2) ** 2 + (P / 3) ** 3
     sq = np.sqrt(np.maximum(disc, 0.0))
     w = np.cbrt(-Q / 2 - np.copysign(sq, Q))
-    one_real = w - _safe_div(P, 3 * w)
+    one_real = w - P / (3 * w)
     rr = np.sqrt(np.maximum(-P / 3, 0.0))
-    cos3 = np.clip(_safe_div(-Q, 2 * rr**3), -1.0, 1.0)
+    cos3 = np.clip(-Q / (2 * rr**3), -1.0, 1.0)
     three_real = 2 * rr * np.cos(np.arccos(cos3) / 3)
     m = np.where(disc > 0, one_real, three_real) - a / 3
-    for _ in range(2):
-        f = ((m + a) * m + b) * m + c
-        df = (3 * m + 2 * a) * m + b
-        step = _safe_div(f, df)
-        m = np.where(np.isfinite(step) & (np.abs(step) <= 1e-3 * (np.abs(m) + 1e-300)), m - step, m)
-    return m
+    f = ((m + a) * m + b) * m + c
+    polished = m - f / ((3 * m + 2 * a) * m + b)
+    f_polished = ((polished + a) * polished + b) * polished + c
+    return np.where(np.abs(f_polished) < np.abs(f), polished, m)
 
 
 def _quartic_roots(b, c, d, e):
-    """Real parts of the four roots of ``x^4 + b x^3 + c x^2 + d x + e`` (Ferrari).
+    """Real parts of the four roots of ``x^4 + b x^3 + c x^2 + d x + e``.
 
-    Complex pairs come back as their (shared) real part: callers polish every
-    root and keep only those whose residual vanishes. Shape ``(..., 4)``.
+    Ferrari's resolvent splits the quartic into two quadratic factors
+    ``(x^2 + a1 x + b1)(x^2 + a2 x + b2)``; the smaller constant term of the
+    depressed factors comes from the product of all roots, and two Newton steps
+    on the four coefficient equations refine the factorization (after Orellana
+    and De Michele, ACM TOMS 2020), which keeps small roots accurate next to
+    large ones. Complex pairs come back as their shared real part: callers polish
+    every root and keep only those whose residual vanishes. Shape ``(..., 4)``.
     """
     bb = b * b
     p = c - 3 * bb / 8
@@ -253,26 +264,44 @@ def _quartic_roots(b, c, d, e):
     s = np.sqrt(2 * m)
     # R = q / (2 s); for s -> 0 (q -> 0) from the resolvent identity instead.
     big = 2 * m > 1e-8 * (np.abs(p) + np.sqrt(np.abs(r)))
-    R = np.where(
-        big,
-        _safe_div(q, 2 * s),
-        np.copysign(np.sqrt(np.maximum((m + p / 2) ** 2 - r, 0.0)), q),
-    )
-    t1, t2 = _quadratic(-s, p / 2 + m + R)
-    t3, t4 = _quadratic(s, p / 2 + m - R)
-    return np.stack([t1, t2, t3, t4], axis=-1) - _e(b) / 4
+    R = np.where(big, q / (2 * s), np.copysign(np.sqrt(np.maximum((m + p / 2) ** 2 - r, 0.0)), q))
+    beta, delta = p / 2 + m + R, p / 2 + m - R
+    small_beta = np.abs(beta) < np.abs(delta)
+    beta = np.where(small_beta & (delta != 0), r / delta, beta)
+    delta = np.where(~small_beta & (beta != 0), r / beta, delta)
+    # Back to x = t - b/4: (t^2 - s t + beta)(t^2 + s t + delta).
+    a1, a2 = b / 2 - s, b / 2 + s
+    b1, b2 = bb / 16 - s * b / 4 + beta, bb / 16 + s * b / 4 + delta
+    for _ in range(2):
+        f1 = a1 + a2 - b
+        f2 = b1 + a1 * a2 + b2 - c
+        f3 = a1 * b2 + a2 * b1 - d
+        f4 = b1 * b2 - e
+        # Eliminate da2 = -f1 - da1; Cramer on the 3x3 system in (da1, db1, db2).
+        g2, g3 = a1 * f1 - f2, b1 * f1 - f3
+        k11, k21 = a2 - a1, b2 - b1
+        det = k11 * (a2 * b1 - a1 * b2) + k21 * k21
+        da1 = (g2 * (a2 * b1 - a1 * b2) - (g3 * b1 + a1 * f4) + (g3 * b2 + a2 * f4)) / det
+        db1 = (k11 * (g3 * b1 + a1 * f4) - g2 * k21 * b1 - k21 * f4) / det
+        db2 = (-k11 * (g3 * b2 + a2 * f4) + g2 * k21 * b2 + k21 * f4) / det
+        ok = np.isfinite(da1) & np.isfinite(db1) & np.isfinite(db2)
+        a1, a2 = np.where(ok, a1 + da1, a1), np.where(ok, a2 - f1 - da1, a2)
+        b1, b2 = np.where(ok, b1 + db1, b1), np.where(ok, b2 + db2, b2)
+    t1, t2 = _quadratic(a1, b1)
+    t3, t4 = _quadratic(a2, b2)
+    return np.stack([t1, t2, t3, t4], axis=-1)
 
 
 def _newton(fun, x, steps=_NEWTON_STEPS):
-    """A few guarded Newton steps on ``fun(x) -> (value, derivative)``."""
+    """A few Newton steps on ``fun(x) -> (value, derivative)`` (no step where undefined)."""
     for _ in range(steps):
-        g, dg = fun(x)
-        step = _safe_div(g, dg)
+        value, slope = fun(x)
+        step = value / slope
         x = np.where(np.isfinite(step), x - step, x)
     return x
 
 
-# ------------------------------------------------------------- minimum-time regions
+# ----------------------------------------- exhaustive reference: every region
 def _coasts(D, v0, vf, V) -> list[dict]:
     """Coast at +V or -V, the coast at vp = v0 = vf and the standstill."""
     out = []
@@ -325,7 +354,11 @@ def _both_saturated(D, v0, vf) -> list[dict]:
             vp = _newton(g, vp, steps=1)
             d1, d3 = s1 * (vp - v0_), s3 * (vf_ - vp)
             value, _ = g(vp)
-            scale = np.abs(D_) + np.abs((v0_ + vp) * (d1 + 1)) + np.abs((vp + vf_) * (d3 + 1))
+            scale = (
+                np.abs(D_)
+                + (np.abs(v0_) + np.abs(vp)) * np.abs(d1 + 1)
+                + (np.abs(vp) + np.abs(vf_)) * np.abs(d3 + 1)
+            )
             valid = (
                 np.isfinite(vp)
                 & (d1 >= 1 - _SLACK * (1 + np.abs(vp)))
@@ -359,7 +392,11 @@ def _first_unsaturated(D, v0, vf, s3) -> dict:
     value, _ = g(x)
     vp = v0_ + x * x
     d3 = s3 * (c - x * x)
-    scale = np.abs(D_) + np.abs((2 * v0_ + x * x) * x) + np.abs((vp + vf_) * (d3 + 1))
+    scale = (
+        np.abs(D_)
+        + (2 * np.abs(v0_) + x * x) * np.abs(x)
+        + (np.abs(vp) + np.abs(vf_)) * np.abs(d3 + 1)
+    )
     valid = (
         np.isfinite(x)
         & (x >= -_SLACK)
@@ -384,6 +421,7 @@ def _both_unsaturated_peak(D, v0, vf) -> dict:
     zero = 0 * w
     u = _quartic_roots(zero, 4 * w, -4 * D, -c * c)
     D_, w_, c_ = _e(D), _e(w), _e(c)
+    v0_, vf_ = _e(v0), _e(vf)
 
     def h(u):
         return ((u * u / 4 + w_) * u - D_) * u - c_ * c_ / 4, (u * u + 2 * w_) * u - D_
@@ -393,7 +431,7 @@ def _both_unsaturated_peak(D, v0, vf) -> dict:
     positive = u > 0
     x = np.where(positive, (u + _safe_div(c_, u)) / 2, 0.0)
     y = np.where(positive, (u - _safe_div(c_, u)) / 2, 0.0)
-    scale = np.abs(D_) * u + np.abs(w_) * u * u + u**4 / 4 + c_ * c_ / 4
+    scale = np.abs(D_) * np.abs(u) + (np.abs(v0_) + np.abs(vf_)) * u * u + u**4 / 4 + c_ * c_ / 4
     valid = (
         np.isfinite(u)
         & (positive | ((c_ == 0) & (D_ == 0)))
@@ -451,7 +489,11 @@ def _both_unsaturated_monotone(D, v0, vf) -> dict:
     theta = _newton(g, theta)
     value, _ = g(theta)
     x, y = r * np.cos(theta), r * np.sin(theta)
-    scale = np.abs(D_) + np.abs(2 * v0_ * x + x**3) + np.abs(y * (w_ + x * x))
+    scale = (
+        np.abs(D_)
+        + (2 * np.abs(v0_) + x * x) * np.abs(x)
+        + np.abs(y) * (np.abs(v0_) + np.abs(_e(vf)) + x * x)
+    )
     valid = (
         np.isfinite(theta)
         & (x >= -_SLACK)
@@ -529,6 +571,25 @@ def _inputs(*arrays):
     return np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays))
 
 
+def _blocked(block_function, args) -> SCurvePhases:
+    """Apply ``block_function`` to the flattened broadcast ``args`` block by block."""
+    shape = args[0].shape
+    flat = [np.ravel(a) for a in args]
+    size = flat[0].size
+    if size <= _BLOCK:
+        parts = [block_function(*flat)]
+    else:
+        parts = [
+            block_function(*(a[start : start + _BLOCK] for a in flat))
+            for start in range(0, size, _BLOCK)
+        ]
+    fields = {
+        name: np.concatenate([getattr(part, name) for part in parts]).reshape(shape)
+        for name in SCurvePhases.__slots__
+    }
+    return SCurvePhases(**fields)
+
+
 def _every_region_durations(D, v0, vf, V) -> FloatArray:
     """Durations of the valid candidates of every region (normalized), ``inf`` elsewhere.
 
@@ -549,101 +610,87 @@ def _side(D, hi, lo, V):
 
     The distance of the two changes is symmetric in the boundary velocities, so
     only ``hi = max(v0, vf)`` and ``lo = min(v0, vf)`` matter. With ``vp`` rising
-    from ``hi`` the changes are: both unsaturated (``vp <= lo + 1``), the one from
-    ``lo`` saturated, both saturated (``vp >= hi + 1``); beyond, a coast at ``V``.
-    Returns jerk and hold times of the change from ``hi`` and from ``lo``, ``vp``,
-    coast time, duration and validity, each of shape ``(..., 11)``.
+    from ``hi`` the changes are: both unsaturated (``vp <= lo + 1``; quartic in
+    ``u = x_lo + x_hi``, duration ``2 u``), the one from ``lo`` saturated (quartic
+    in ``x = x_hi``), both saturated (``vp >= hi + 1``; quadratic in ``vp``), and
+    beyond that a coast at ``V``. Returns the durations (``inf`` where invalid) and
+    the unknown solved for (``u``, ``x``, ``vp``, coast time), both ``(..., 11)``.
     """
     D_, hi_, lo_, V_ = _e(D), _e(hi), _e(lo), _e(V)
     c, w = hi - lo, hi + lo
     c_, w_ = _e(c), _e(w)
-    # Both unsaturated: quartic in u = x_lo + x_hi (x_lo^2 - x_hi^2 = c); duration 2 u.
-    u = _quartic_roots(0 * D, 4 * w, -4 * D, -c * c)
+    cc_ = c_ * c_
 
-    def h(u):
-        return ((u * u / 4 + w_) * u - D_) * u - c_ * c_ / 4, (u * u + 2 * w_) * u - D_
+    # Both unsaturated: u^4 / 4 + w u^2 - D u - c^2 / 4 = 0 (x_lo^2 - x_hi^2 = c).
+    def free(u):
+        uu = u * u
+        return ((0.25 * uu + w_) * u - D_) * u - 0.25 * cc_, (uu + 2 * w_) * u - D_
 
-    u = _newton(h, u)
-    value, _ = h(u)
-    ratio = _safe_div(c_ + 0 * u, u)
-    x_lo, x_hi = (u + ratio) / 2, (u - ratio) / 2
-    scale = (np.abs(D_) + np.abs(w_) * u + u**3 / 4) * u + c_ * c_ / 4
-    vp_free = hi_ + x_hi * x_hi
-    ok_free = (
+    u = _newton(free, _quartic_roots(0 * D, 4 * w, -4 * D, -c * c))
+    value, _ = free(u)
+    uu = u * u
+    # Residuals are judged against the sum of the magnitudes of the terms.
+    scale = (np.abs(D_) + (np.abs(hi_) + np.abs(lo_)) * u + 0.25 * uu * u) * u + 0.25 * cc_
+    x_hi = (uu - c_) / (2 * u)
+    ok = (
         (u > 0)
-        & (x_hi >= -_SLACK * u)
-        & (x_lo <= 1 + _SLACK)
+        & (uu >= c_ * (1 - _SLACK))
+        & (uu - 2 * u + c_ <= _SLACK * u)
         & (np.abs(value) <= _RESIDUAL * scale)
-        & (vp_free <= V_ * (1 + _SLACK))
+        & (hi_ + x_hi * x_hi <= V_ * (1 + _SLACK))
     )
-    # Change from lo saturated, from hi not: quartic in x = x_hi.
-    x = _quartic_roots(2 + 0 * D, 2 * hi + 1, 4 * hi, w * (c + 1) - 2 * D)
+    free = np.where(ok, 2 * u, np.inf)
 
-    def g(x):
-        vp = hi_ + x * x
-        value = (2 * hi_ + x * x) * x + (vp + lo_) * (c_ + x * x + 1) / 2 - D_
-        return value, 2 * hi_ + 3 * x * x + x * (1 + 2 * vp)
+    # The change from lo saturated, from hi not: quartic in x = x_hi.
+    def one(x):
+        xx = x * x
+        vp = hi_ + xx
+        value = (2 * hi_ + xx) * x + 0.5 * (vp + lo_) * (c_ + xx + 1) - D_
+        return value, 2 * hi_ + 3 * xx + x * (1 + 2 * vp)
 
-    x = _newton(g, x)
-    value, _ = g(x)
-    vp_one = hi_ + x * x
-    d_lo = c_ + x * x
-    scale = np.abs(D_) + np.abs((2 * hi_ + x * x) * x) + np.abs((vp_one + lo_) * (d_lo + 1))
-    ok_one = (
+    x = _newton(one, _quartic_roots(2 + 0 * D, 2 * hi + 1, 4 * hi, w * (c + 1) - 2 * D))
+    value, _ = one(x)
+    xx = x * x
+    vp = hi_ + xx
+    scale = np.abs(D_) + (2 * np.abs(hi_) + xx) * np.abs(x)
+    scale += 0.5 * (np.abs(vp) + np.abs(lo_)) * (c_ + xx + 1)
+    ok = (
         (x >= -_SLACK)
         & (x <= 1 + _SLACK)
-        & (d_lo >= 1 - _SLACK * (1 + np.abs(vp_one)))
+        & (c_ + xx >= 1 - _SLACK * (1 + np.abs(vp)))
         & (np.abs(value) <= _RESIDUAL * scale)
-        & (vp_one <= V_ * (1 + _SLACK))
+        & (vp <= V_ * (1 + _SLACK))
     )
-    x = np.clip(x, 0.0, 1.0)
-    # Both saturated: vp^2 + vp + C = 0.
-    C = -(hi * hi + lo * lo) / 2 + w / 2 - D
-    vp_sat = np.stack(_quadratic(1.0 + 0 * C, C), axis=-1)
+    one = np.where(ok, 2 * x + c_ + xx + 1, np.inf)
 
-    def g_sat(vp):
-        first, second = (lo_ + vp) * (vp - lo_ + 1) / 2, (hi_ + vp) * (vp - hi_ + 1) / 2
-        return first + second - D_, 2 * vp + 1, np.abs(D_) + np.abs(first) + np.abs(second)
-
-    value, slope, _ = g_sat(vp_sat)
-    vp_sat = vp_sat - _safe_div(value, slope)
-    value, _, scale = g_sat(vp_sat)
-    ok_sat = (
-        (vp_sat - hi_ >= 1 - _SLACK * (1 + np.abs(vp_sat)))
-        & (vp_sat <= V_ * (1 + _SLACK))
-        & (np.abs(value) <= _RESIDUAL * scale)
-    )
+    # Both saturated, in the excess e = vp - hi >= 1 of the peak (no cancellation
+    # for small changes on top of a large velocity): e^2 + (2 hi + 1) e + K = 0.
+    B = 2 * hi + 1
+    K = c * w / 2 + (3 * hi + lo) / 2 - D
+    excess = np.stack(_quadratic(B, K), axis=-1)
+    real = _e(B * B - 4 * K >= -_SLACK * (B * B + 4 * np.abs(K)))
+    ok = real & (excess >= 1 - _SLACK * (1 + np.abs(hi_))) & (hi_ + excess <= V_ * (1 + _SLACK))
+    both = np.where(ok, 2 * excess + c_ + 2, np.inf)
     # Coast at V.
-    tj_h, ta_h, _, t_h, x_h = _change(hi, V)
-    tj_l, ta_l, _, t_l, x_l = _change(lo, V)
-    tv = (D - x_h - x_l) / V
-    ok_coast = tv * V >= -_SLACK * (np.abs(D) + np.abs(x_h) + np.abs(x_l))
+    _, _, _, t_hi, x_hi = _change(hi, V)
+    _, _, _, t_lo, x_lo = _change(lo, V)
+    tv = (D - x_hi - x_lo) / V
+    ok = tv * V >= -_SLACK * (np.abs(D) + V * (t_hi + t_lo))
     tv = np.maximum(tv, 0.0)
-
-    one, zero = np.ones_like(u), np.zeros_like(u)
-    d_h_sat, d_l_sat = np.maximum(vp_sat - hi_, 1.0), np.maximum(vp_sat - lo_, 1.0)
-    tj_hi = np.concatenate([np.clip(x_hi, 0.0, 1.0), x, one[..., :2], _e(tj_h)], axis=-1)
-    ta_hi = np.concatenate([zero, zero, d_h_sat - 1, _e(ta_h)], axis=-1)
-    tj_lo = np.concatenate([np.clip(x_lo, 0.0, 1.0), one, one[..., :2], _e(tj_l)], axis=-1)
-    ta_lo = np.concatenate([zero, np.maximum(d_lo - 1, 0.0), d_l_sat - 1, _e(ta_l)], axis=-1)
-    vp = np.concatenate([vp_free, vp_one, vp_sat, V_], axis=-1)
-    coast = np.concatenate([zero, zero, zero[..., :2], _e(tv)], axis=-1)
-    duration = np.concatenate(
-        [2 * u, 2 * x + d_lo + 1, d_h_sat + d_l_sat + 2, _e(t_h + t_l + tv)], axis=-1
-    )
-    valid = np.concatenate([ok_free, ok_one, ok_sat, _e(ok_coast)], axis=-1)
-    return tj_hi, ta_hi, tj_lo, ta_lo, vp, coast, np.where(valid, duration, np.inf)
+    coast = np.where(ok, t_hi + t_lo + tv, np.inf)
+    duration = np.concatenate([free, one, both, _e(coast)], axis=-1)
+    return duration, np.concatenate([u, x, excess, _e(tv)], axis=-1)
 
 
 def minimum_time(D, v0, vf, V, A, J) -> SCurvePhases:
     """Time-optimal double-S profile of every element.
 
     The peak lies above both boundary velocities (rise then fall) or below both
-    (fall then rise, solved as the mirrored problem); each side has at most four
-    candidate structures (see :func:`_side`) and the standstill ``D = 0, v0 = vf``
-    takes no time. Profiles whose peak lies between ``v0`` and ``vf`` without a
-    coast are never faster (three jerk switches between constraint arcs, beyond
-    the two a time-optimal triple integrator needs) and are not searched; the
+    (fall then rise, solved as the mirrored problem); each side has four
+    structures (see :func:`_side`), and the standstill ``D = 0, v0 = vf`` takes no
+    time. Profiles whose peak lies between ``v0`` and ``vf`` without a coast are
+    never faster (their jerk switches three times between constraint arcs, more
+    than a time-optimal triple integrator does) and are not searched; the
     exhaustive search over every region (``_every_region_durations``) confirms it.
 
     Parameters
@@ -659,46 +706,73 @@ def minimum_time(D, v0, vf, V, A, J) -> SCurvePhases:
     -------
     SCurvePhases
         Arrays of the broadcast shape of the arguments; jerks are ``+-J``.
+
+    Notes
+    -----
+    Elements are processed in blocks of ``_BLOCK`` so that the temporaries stay
+    in cache; within a block everything is vectorized.
     """
-    D, v0, vf, V, A, J = _inputs(D, v0, vf, V, A, J)
+    return _blocked(_minimum_time_block, _inputs(D, v0, vf, V, A, J))
+
+
+def _minimum_time_block(D, v0, vf, V, A, J) -> SCurvePhases:
+    """:func:`minimum_time` on 1-D arrays of equal length."""
     vs = A * A / J
     ds = vs * A / J
     with np.errstate(all="ignore"):
         Dn, v0n, vfn, Vn = D / ds, v0 / vs, vf / vs, V / vs
         hi, lo = np.maximum(v0n, vfn), np.minimum(v0n, vfn)
         # Side 0: peak above (as given); side 1: the mirrored problem.
-        fields = _side(
+        duration, root = _side(
             np.stack([Dn, -Dn], axis=-1),
             np.stack([hi, -lo], axis=-1),
             np.stack([lo, -hi], axis=-1),
             np.stack([Vn, Vn], axis=-1),
         )
-        fields = [f.reshape(*f.shape[:-2], -1) for f in fields]
-        duration = fields[-1]
-        count = duration.shape[-1]
+        lanes = duration.shape[-1]
+        duration = duration.reshape(*duration.shape[:-2], -1)
         index = np.argmin(duration, axis=-1)[..., np.newaxis]
-        tj_h, ta_h, tj_l, ta_l, vp, tv, duration = (
-            np.take_along_axis(f, index, axis=-1)[..., 0] for f in fields
+        duration = np.take_along_axis(duration, index, axis=-1)[..., 0]
+        root = np.take_along_axis(root.reshape((*duration.shape, -1)), index, axis=-1)[..., 0]
+        index = index[..., 0]
+        mirrored = index >= lanes
+        lane = index % lanes
+        sign = np.where(mirrored, -1.0, 1.0)
+        hi, lo = np.where(mirrored, -lo, hi), np.where(mirrored, -hi, lo)
+        c = hi - lo
+        # Rebuild the chosen structure: jerk and hold times of the changes from hi, lo.
+        free, one, both = lane < 4, (lane >= 4) & (lane < 8), (lane >= 8) & (lane < 10)
+        tj_hi_c, ta_hi_c, _, _, _ = _change(hi, Vn)
+        tj_lo_c, ta_lo_c, _, _, _ = _change(lo, Vn)
+        u = np.where(free, root, 1.0)
+        x_hi = np.where(free, (u * u - c) / (2 * u), np.where(one, root, 1.0))
+        x_hi = np.where(lane == 10, tj_hi_c, np.clip(x_hi, 0.0, 1.0))
+        x_lo = np.where(free, np.clip((u * u + c) / (2 * u), 0.0, 1.0), 1.0)
+        x_lo = np.where(lane == 10, tj_lo_c, x_lo)
+        ta_hi = np.where(both, np.maximum(root - 1, 0.0), np.where(lane == 10, ta_hi_c, 0.0))
+        ta_lo = np.where(
+            one,
+            np.maximum(c + root * root - 1, 0.0),
+            np.where(both, np.maximum(root + c - 1, 0.0), np.where(lane == 10, ta_lo_c, 0.0)),
         )
-    index = index[..., 0]
-    sign = np.where(index < count // 2, 1.0, -1.0)
+        vp = np.where(both, hi + root, np.where(lane == 10, Vn, hi + x_hi * x_hi))
+        tv = np.where(lane == 10, root, 0.0)
     valid = np.isfinite(duration)
     # The standstill: nothing to do.
     still = (Dn == 0) & (v0n == vfn)
     valid |= still
+    keep = valid & ~still
     # The change leaving v0 is the one from hi (side 0) or from -lo (side 1).
-    first_hi = np.where(sign > 0, v0n >= vfn, v0n <= vfn)
+    first_hi = np.where(mirrored, v0n <= vfn, v0n >= vfn)
     n = {
-        "vp": np.where(still, v0n, sign * vp),
-        "tj1": np.where(first_hi, tj_h, tj_l),
-        "ta1": np.where(first_hi, ta_h, ta_l),
-        "tj2": np.where(first_hi, tj_l, tj_h),
-        "ta2": np.where(first_hi, ta_l, ta_h),
-        "tv": tv,
+        "vp": np.where(keep, sign * vp, v0n),
+        "tj1": np.where(keep, np.where(first_hi, x_hi, x_lo), 0.0),
+        "ta1": np.where(keep, np.where(first_hi, ta_hi, ta_lo), 0.0),
+        "tj2": np.where(keep, np.where(first_hi, x_lo, x_hi), 0.0),
+        "ta2": np.where(keep, np.where(first_hi, ta_lo, ta_hi), 0.0),
+        "tv": np.where(keep, tv, 0.0),
         "valid": valid,
     }
-    for name in ("tj1", "ta1", "tj2", "ta2", "tv"):
-        n[name] = np.where(still | ~valid, 0.0, n[name])
     duration = np.where(still, 0.0, duration)
     n["a1"], n["a2"] = sign * n["tj1"], -sign * n["tj2"]
     n["j1"] = np.where(n["tj1"] > 0, sign, 0.0)
@@ -734,15 +808,20 @@ def _coast_distance(vp, T, v0, vf):
 
 
 def _bisect(fun, lo, hi, target, iterations=_BISECTIONS):
-    """Root of ``fun(x) = target`` in ``[lo, hi]`` keeping the sign change (vectorized)."""
-    f_lo = fun(lo) - target
+    """Root of ``fun(x) = target`` in ``[lo, hi]`` keeping the sign change (vectorized).
+
+    Without a sign change the end nearer to the target is returned.
+    """
+    f_lo, f_hi = fun(lo) - target, fun(hi) - target
+    no_change = np.sign(f_lo) == np.sign(f_hi)
+    nearer = np.where(np.abs(f_lo) <= np.abs(f_hi), lo, hi)
     for _ in range(iterations):
         mid = 0.5 * (lo + hi)
         f_mid = fun(mid) - target
         left = (f_mid == 0) | (np.sign(f_mid) != np.sign(f_lo))
         hi = np.where(left, mid, hi)
         lo, f_lo = np.where(left, lo, mid), np.where(left, f_lo, f_mid)
-    return 0.5 * (lo + hi)
+    return np.where(no_change, nearer, 0.5 * (lo + hi))
 
 
 def _slower_jerk(vp, T, v0, vf):
@@ -823,14 +902,17 @@ def fixed_duration(T, D, v0, vf, V, A, J) -> SCurvePhases:
     SCurvePhases
         ``duration`` is ``T``; ``j1``, ``j2`` carry the jerk used (``+-J`` or lower).
     """
-    T, D, v0, vf, V, A, J = _inputs(T, D, v0, vf, V, A, J)
+    return _blocked(_fixed_duration_block, _inputs(T, D, v0, vf, V, A, J))
+
+
+def _fixed_duration_block(T, D, v0, vf, V, A, J) -> SCurvePhases:
+    """:func:`fixed_duration` on 1-D arrays of equal length."""
     tau = A / J
     vs = A * tau
     ds = vs * tau
     with np.errstate(all="ignore"):
         n = _fixed_duration(T / tau, D / ds, v0 / vs, vf / vs, V / vs)
-    duration = np.where(n["valid"], T / tau, np.nan)
-    phases = _to_physical(n, duration, V, A, J)
+    phases = _to_physical(n, T / tau, V, A, J)
     phases.duration = T.copy()
     return phases
 
@@ -890,6 +972,14 @@ def _fixed_duration(T, D, v0, vf, V) -> dict:
                 rank=np.abs(vp) + 2 * V + 1,
             )
         )  # fmt: skip
+    # Standstill: no time, no distance, no velocity change.
+    zero = np.zeros_like(T)
+    candidates.append(
+        dict(
+            vp=v0 + zero, tj1=zero, ta1=zero, a1=zero, j1=zero, tv=zero, tj2=zero, ta2=zero,
+            a2=zero, j2=zero, valid=(T == 0) & (D == 0) & (v0 == vf), rank=zero,
+        )
+    )  # fmt: skip
     stacked = {k: np.stack([c[k] for c in candidates], axis=-1) for k in candidates[0]}
     key = np.where(stacked["valid"], stacked.pop("rank"), np.inf)
     index = np.argmin(key, axis=-1)[..., np.newaxis]

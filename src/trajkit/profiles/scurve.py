@@ -41,15 +41,41 @@ class SCurveSolution:
     alone; ``limiting`` the joint that sets the duration (-1 under phase sync).
     """
 
-    __slots__ = ("duration", "durations", "jerks", "limiting", "own", "peak_velocity")
+    __slots__ = ("_arrays", "_make", "duration", "limiting", "own")
 
-    def __init__(self, durations, jerks, peak_velocity, duration, own, limiting) -> None:
-        self.durations, self.jerks, self.peak_velocity = durations, jerks, peak_velocity
+    def __init__(self, durations, jerks, peak_velocity, duration, own, limiting, make=None) -> None:
+        # ``make()`` may stand in for the three phase arrays: batch planning builds
+        # them only when somebody asks.
+        self._arrays = None if make is not None else (durations, jerks, peak_velocity)
+        self._make = make
         self.duration, self.own, self.limiting = duration, own, limiting
+
+    def _phase_arrays(self) -> tuple[FloatArray, FloatArray, FloatArray]:
+        if self._arrays is None:
+            self._arrays = self._make()
+        return self._arrays
+
+    @property
+    def durations(self) -> FloatArray:
+        """Phase durations (s), ``(..., ndof, 7)``."""
+        return self._phase_arrays()[0]
+
+    @property
+    def jerks(self) -> FloatArray:
+        """Phase jerks, ``(..., ndof, 7)``."""
+        return self._phase_arrays()[1]
+
+    @property
+    def peak_velocity(self) -> FloatArray:
+        """Signed coast (peak) velocity, ``(..., ndof)``."""
+        return self._phase_arrays()[2]
 
     @property
     def accelerations(self) -> FloatArray:
         """Acceleration at the start of each phase (the profile starts at 0)."""
+        arrays = self._phase_arrays()
+        if len(arrays) > 3:
+            return arrays[3]
         steps = self.durations * self.jerks
         return np.concatenate(
             [np.zeros_like(steps[..., :1]), np.cumsum(steps[..., :-1], axis=-1)], axis=-1
@@ -350,3 +376,113 @@ def scurve(
         ),
     }
     return plan_to_trajectory(plan, float(solution.duration), info)
+
+
+def _change_time(v: FloatArray, A: FloatArray, J: FloatArray) -> FloatArray:
+    """Fastest change from rest to speed ``v >= 0`` (zero end accelerations)."""
+    return np.where(v * J >= A * A, v / A + A / J, 2.0 * np.sqrt(v / J))
+
+
+def _polish_by_bisection(peak, T, d, fastest, A, J, exact):
+    """Where the closed form lost precision (very long durations), bisect instead.
+
+    On ``d / T < vp <= fastest`` the excess ``Tc(vp) + d / vp - T`` falls from
+    positive to <= 0, so the gentlest peak is its only root there. ``exact`` marks
+    the elements taken at their minimum duration, whose peak is already exact.
+    """
+    with np.errstate(all="ignore"):
+        excess = _change_time(peak, A, J) + d / peak - T
+    bad = (d > 0) & ~(np.abs(excess) <= 1e-13 * T) & ~exact
+    if not bad.any():
+        return peak
+    A_, J_, d_, T_ = (np.broadcast_to(x, peak.shape)[bad] for x in (A, J, d, T))
+    low, high = d_ / T_, np.broadcast_to(fastest, peak.shape)[bad].copy()
+    for _ in range(200):
+        middle = 0.5 * (low + high)
+        above = _change_time(middle, A_, J_) + d_ / middle - T_ > 0
+        low, high = np.where(above, middle, low), np.where(above, high, middle)
+        if np.all(high - low <= 1e-15 * high):
+            break
+    peak = peak.copy()
+    peak[bad] = high
+    return peak
+
+
+def _free_peak(T, d, J):
+    """Gentlest peak when the acceleration does not saturate: ``2 sqrt(vp/J) + d/vp = T``.
+
+    With ``x = sqrt(vp)``: ``2 x^3 - c x^2 + e = 0`` (``c = T sqrt(J)``,
+    ``e = d sqrt(J)``), one negative and two positive roots (trigonometric form);
+    the smaller positive one lies on the branch where a longer duration means a
+    lower peak. Two Newton steps polish it.
+    """
+    with np.errstate(invalid="ignore", divide="ignore"):
+        c, e = T * np.sqrt(J), d * np.sqrt(J)
+        p2, p0 = -c / 2.0, e / 2.0
+        P = -(p2**2) / 3.0
+        Q = 2.0 * p2**3 / 27.0 + p0
+        angle = np.arccos(np.clip(1.5 * Q / P * np.sqrt(-3.0 / P), -1.0, 1.0)) / 3.0
+        radius = 2.0 * np.sqrt(-P / 3.0)
+        roots = [radius * np.cos(angle - 2.0 * np.pi * k / 3.0) - p2 / 3.0 for k in range(3)]
+        x = np.minimum.reduce([np.where(r > 0, r, np.inf) for r in roots])
+        for _ in range(2):
+            slope = 6 * x**2 - 2 * c * x
+            x = x - (2 * x**3 - c * x**2 + e) / np.where(slope != 0, slope, 1.0)
+    return x * x
+
+
+def rest_plan(D, V, A, J):
+    """Closed forms for moves at rest at both ends (the batch planner's hot path).
+
+    With ``d = |D|`` and ``Tc(v)`` the fastest change from rest to ``v``, a profile
+    of peak speed ``vp`` lasts ``T(vp) = Tc(vp) + d / vp``. Fastest: ``vp = V`` when
+    ``d >= V Tc(V)`` (it coasts), else the ``vp`` with ``vp Tc(vp) = d`` (a
+    quadratic when the acceleration saturates, ``vp = (d sqrt(J) / 2)^(2/3)``
+    otherwise). Exactly ``T`` (time synchronization): the smallest ``vp`` with
+    ``T(vp) = T`` — a quadratic when saturated, the smaller positive root of
+    ``2 x^3 - T sqrt(J) x^2 + d sqrt(J) = 0`` (``x = sqrt(vp)``) otherwise.
+
+    Returns ``(durations, phases_at)``; ``phases_at(T)`` gives the 7 phase
+    durations and jerks, each ``(..., 7)``, and the signed peak velocity.
+    """
+    d = np.abs(D)
+    knee = A * A / J  # the speed change at which the acceleration saturates
+    saturated_peak = 0.5 * A * (np.sqrt((A / J) ** 2 + 4.0 * d / A) - A / J)
+    free_peak = np.cbrt(d * np.sqrt(J) / 2.0) ** 2
+    no_coast = np.where(saturated_peak >= knee, saturated_peak, free_peak)
+    vp = np.minimum(no_coast, V)
+    duration = np.divide(d, vp, out=np.zeros_like(vp), where=vp > 0)
+    duration += _change_time(vp, A, J)
+
+    def phases_at(T: FloatArray) -> tuple[FloatArray, ...]:
+        shape = np.broadcast_shapes(np.shape(T), d.shape)
+        T_full = np.broadcast_to(T, shape)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            b = T - A / J
+            # Smaller root of vp^2 / A - b vp + d = 0, in the form free of cancellation.
+            peak = 2.0 * d / (b + np.sqrt(np.maximum(b * b - 4.0 * d / A, 0.0)))
+            peak = np.broadcast_to(peak, shape).copy()
+            # At the minimum duration itself the root is double: the fastest peak is known.
+            at_minimum = T_full <= duration * (1 + 1e-12)
+            peak[at_minimum] = np.broadcast_to(vp, shape)[at_minimum]
+            free = ~at_minimum & (peak < np.broadcast_to(knee, shape) * (1 - 1e-12)) & (d > 0)
+            if free.any():
+                peak[free] = _free_peak(T_full[free], d[free], np.broadcast_to(J, shape)[free])
+        peak = np.where(d > 0, np.minimum(peak, V), 0.0)
+        peak = _polish_by_bisection(peak, T_full, d, vp, A, J, at_minimum)
+        tj = np.minimum(A / J, np.sqrt(peak / J))
+        ta = np.maximum(peak / A - A / J, 0.0)
+        tv = np.maximum(T - 2.0 * (2.0 * tj + ta), 0.0)
+        sign = np.sign(D)
+        jerk = np.where(tj > 0, sign * peak / np.where(tj > 0, tj * (tj + ta), 1.0), 0.0)
+        acceleration = jerk * tj
+        zero = np.zeros(shape)
+        durations = np.stack(np.broadcast_arrays(tj, ta, tj, tv, tj, ta, tj), axis=-1)
+        jerks = np.stack(np.broadcast_arrays(jerk, zero, -jerk, zero, -jerk, zero, jerk), axis=-1)
+        starts = np.stack(
+            np.broadcast_arrays(zero, acceleration, acceleration, zero, zero, -acceleration,
+                                -acceleration), axis=-1,
+        )  # fmt: skip
+        return durations, jerks, sign * peak, starts
+
+    return duration, phases_at

@@ -42,7 +42,10 @@ class TrapezoidSolution:
     not given: batch planning returns before any of them is needed.
     """
 
-    __slots__ = ("_accelerations", "_limiting", "_peak", "_phases", "_times", "duration", "own")
+    __slots__ = (
+        "_accelerations", "_joint_major", "_limiting", "_peak", "_phases", "_times", "duration",
+        "own",
+    )  # fmt: skip
 
     def __init__(
         self,
@@ -53,30 +56,43 @@ class TrapezoidSolution:
         own: FloatArray,
         limiting: FloatArray | None,
         phases: math.Phases | None = None,
+        joint_major: bool = False,
     ) -> None:
+        # ``joint_major``: ``phases`` holds (ndof, ...) arrays (batch planning's layout);
+        # the properties still present joints on the last axis, as transposed views.
+        self._joint_major = joint_major
         self._times, self._accelerations, self._peak = times, accelerations, peak_velocity
         self.duration, self.own = duration, own
         self._limiting, self._phases = limiting, phases
+
+    def _build(self) -> None:
+        times, accelerations = _stack(self._phases)
+        peak = self._phases.vp
+        if self._joint_major:
+            times, accelerations, peak = (
+                np.swapaxes(x, 0, 1) for x in (times, accelerations, peak)
+            )
+        self._times, self._accelerations, self._peak = times, accelerations, peak
 
     @property
     def times(self) -> FloatArray:
         """Phase durations (s), shape ``(..., ndof, 3)``."""
         if self._times is None:
-            self._times, self._accelerations = _stack(self._phases)
+            self._build()
         return self._times
 
     @property
     def accelerations(self) -> FloatArray:
         """Phase accelerations, shape ``(..., ndof, 3)`` (the coast's is 0)."""
         if self._accelerations is None:
-            self._times, self._accelerations = _stack(self._phases)
+            self._build()
         return self._accelerations
 
     @property
     def peak_velocity(self) -> FloatArray:
         """Signed coast (peak) velocity of every joint."""
         if self._peak is None:
-            self._peak = self._phases.vp
+            self._build()
         return self._peak
 
     @property
