@@ -456,8 +456,10 @@ def _scurve_rest_to_rest(
     T = own.max(axis=0)
     target = own if sync is None else T
 
+    profile = phases_at(target)  # the whole plan: four numbers per joint
+
     def make() -> tuple[FloatArray, ...]:
-        durations, jerks, peak, accelerations = phases_at(target)
+        durations, jerks, peak, accelerations = profile.phases()
         swap = lambda x: np.swapaxes(x, 0, 1)  # noqa: E731
         return swap(durations), swap(jerks), peak.T, swap(accelerations)
 

@@ -383,20 +383,19 @@ def _change_time(v: FloatArray, A: FloatArray, J: FloatArray) -> FloatArray:
     return np.where(v * J >= A * A, v / A + A / J, 2.0 * np.sqrt(v / J))
 
 
-def _polish_by_bisection(peak, T, d, fastest, A, J, exact):
-    """Where the closed form lost precision (very long durations), bisect instead.
+def _polish_by_bisection(peak, T, d, fastest, A, J):
+    """Where the closed form lost precision, bisect instead (1-D arrays).
 
     On ``d / T < vp <= fastest`` the excess ``Tc(vp) + d / vp - T`` falls from
-    positive to <= 0, so the gentlest peak is its only root there. ``exact`` marks
-    the elements taken at their minimum duration, whose peak is already exact.
+    positive to <= 0, so the gentlest peak is its only root there.
     """
     with np.errstate(all="ignore"):
         excess = _change_time(peak, A, J) + d / peak - T
-    bad = (d > 0) & ~(np.abs(excess) <= 1e-13 * T) & ~exact
+    bad = ~(np.abs(excess) <= 1e-13 * T)
     if not bad.any():
         return peak
-    A_, J_, d_, T_ = (np.broadcast_to(x, peak.shape)[bad] for x in (A, J, d, T))
-    low, high = d_ / T_, np.broadcast_to(fastest, peak.shape)[bad].copy()
+    A_, J_, d_, T_ = A[bad], J[bad], d[bad], T[bad]
+    low, high = d_ / T_, fastest[bad].copy()
     for _ in range(200):
         middle = 0.5 * (low + high)
         above = _change_time(middle, A_, J_) + d_ / middle - T_ > 0
@@ -408,13 +407,40 @@ def _polish_by_bisection(peak, T, d, fastest, A, J, exact):
     return peak
 
 
-def _free_peak(T, d, J):
+class RestProfile:
+    """A rest-to-rest double S: jerk time ``tj``, hold ``ta``, coast ``tv``, ``jerk``, peak.
+
+    Both velocity changes mirror each other; these four numbers per joint are the
+    whole plan. :meth:`phases` expands them into the 7-phase tables.
+    """
+
+    __slots__ = ("jerk", "peak", "ta", "tj", "tv")
+
+    def __init__(self, tj, ta, tv, jerk, peak) -> None:
+        self.tj, self.ta, self.tv, self.jerk, self.peak = tj, ta, tv, jerk, peak
+
+    def phases(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Durations, jerks, peak velocity and start accelerations, tables ``(..., 7)``."""
+        tj, ta, tv, jerk = np.broadcast_arrays(self.tj, self.ta, self.tv, self.jerk)
+        acceleration = jerk * tj
+        zero = np.zeros(tj.shape)
+        stack = lambda *columns: np.stack(columns, axis=-1)  # noqa: E731
+        return (
+            stack(tj, ta, tj, tv, tj, ta, tj),
+            stack(jerk, zero, -jerk, zero, -jerk, zero, jerk),
+            self.peak,
+            stack(zero, acceleration, acceleration, zero, zero, -acceleration, -acceleration),
+        )
+
+
+def _free_peak(T, d, A, J, fastest):
     """Gentlest peak when the acceleration does not saturate: ``2 sqrt(vp/J) + d/vp = T``.
 
     With ``x = sqrt(vp)``: ``2 x^3 - c x^2 + e = 0`` (``c = T sqrt(J)``,
     ``e = d sqrt(J)``), one negative and two positive roots (trigonometric form);
     the smaller positive one lies on the branch where a longer duration means a
-    lower peak. Two Newton steps polish it.
+    lower peak. Two Newton steps polish it; where the closed form lost precision
+    (extreme durations), bisection on ``d / T < vp <= fastest`` takes over.
     """
     with np.errstate(invalid="ignore", divide="ignore"):
         c, e = T * np.sqrt(J), d * np.sqrt(J)
@@ -423,12 +449,13 @@ def _free_peak(T, d, J):
         Q = 2.0 * p2**3 / 27.0 + p0
         angle = np.arccos(np.clip(1.5 * Q / P * np.sqrt(-3.0 / P), -1.0, 1.0)) / 3.0
         radius = 2.0 * np.sqrt(-P / 3.0)
-        roots = [radius * np.cos(angle - 2.0 * np.pi * k / 3.0) - p2 / 3.0 for k in range(3)]
-        x = np.minimum.reduce([np.where(r > 0, r, np.inf) for r in roots])
+        # Roots radius * cos(angle - 2 pi k / 3) - p2 / 3 fall in the order k = 0, 1, 2
+        # (angle lies in [0, pi / 3]); k = 2 is the negative one, k = 1 the one we want.
+        x = radius * np.cos(angle - 2.0 * np.pi / 3.0) - p2 / 3.0
         for _ in range(2):
             slope = 6 * x**2 - 2 * c * x
             x = x - (2 * x**3 - c * x**2 + e) / np.where(slope != 0, slope, 1.0)
-    return x * x
+    return _polish_by_bisection(x * x, T, d, fastest, A, J)
 
 
 def rest_plan(D, V, A, J):
@@ -442,8 +469,7 @@ def rest_plan(D, V, A, J):
     ``T(vp) = T`` — a quadratic when saturated, the smaller positive root of
     ``2 x^3 - T sqrt(J) x^2 + d sqrt(J) = 0`` (``x = sqrt(vp)``) otherwise.
 
-    Returns ``(durations, phases_at)``; ``phases_at(T)`` gives the 7 phase
-    durations and jerks, each ``(..., 7)``, and the signed peak velocity.
+    Returns ``(durations, phases_at)``; ``phases_at(T)`` gives a :class:`RestProfile`.
     """
     d = np.abs(D)
     knee = A * A / J  # the speed change at which the acceleration saturates
@@ -454,35 +480,36 @@ def rest_plan(D, V, A, J):
     duration = np.divide(d, vp, out=np.zeros_like(vp), where=vp > 0)
     duration += _change_time(vp, A, J)
 
-    def phases_at(T: FloatArray) -> tuple[FloatArray, ...]:
+    def phases_at(T: FloatArray) -> RestProfile:
         shape = np.broadcast_shapes(np.shape(T), d.shape)
         T_full = np.broadcast_to(T, shape)
         with np.errstate(invalid="ignore", divide="ignore"):
             b = T - A / J
-            # Smaller root of vp^2 / A - b vp + d = 0, in the form free of cancellation.
-            peak = 2.0 * d / (b + np.sqrt(np.maximum(b * b - 4.0 * d / A, 0.0)))
-            peak = np.broadcast_to(peak, shape).copy()
+            # Smaller root of vp^2 / A - b vp + d = 0, in the form free of cancellation;
+            # valid where the acceleration saturates (vp >= knee). d = 0 gives 0.
+            discriminant = b * b - 4.0 * d / A
+            root = np.sqrt(np.maximum(discriminant, 0.0))
+            root += b
+            # No real root (or b <= 0): no saturated profile; 0 sends it to the free case.
+            peak = np.divide(
+                2.0 * d, root, out=np.zeros(shape), where=(root > 0) & (discriminant >= 0)
+            )
             # At the minimum duration itself the root is double: the fastest peak is known.
             at_minimum = T_full <= duration * (1 + 1e-12)
-            peak[at_minimum] = np.broadcast_to(vp, shape)[at_minimum]
-            free = ~at_minimum & (peak < np.broadcast_to(knee, shape) * (1 - 1e-12)) & (d > 0)
+            np.copyto(peak, vp, where=at_minimum)
+            free = (peak < knee * (1 - 1e-12)) & ~at_minimum & (d > 0)
             if free.any():
-                peak[free] = _free_peak(T_full[free], d[free], np.broadcast_to(J, shape)[free])
-        peak = np.where(d > 0, np.minimum(peak, V), 0.0)
-        peak = _polish_by_bisection(peak, T_full, d, vp, A, J, at_minimum)
-        tj = np.minimum(A / J, np.sqrt(peak / J))
-        ta = np.maximum(peak / A - A / J, 0.0)
-        tv = np.maximum(T - 2.0 * (2.0 * tj + ta), 0.0)
-        sign = np.sign(D)
-        jerk = np.where(tj > 0, sign * peak / np.where(tj > 0, tj * (tj + ta), 1.0), 0.0)
-        acceleration = jerk * tj
-        zero = np.zeros(shape)
-        durations = np.stack(np.broadcast_arrays(tj, ta, tj, tv, tj, ta, tj), axis=-1)
-        jerks = np.stack(np.broadcast_arrays(jerk, zero, -jerk, zero, -jerk, zero, jerk), axis=-1)
-        starts = np.stack(
-            np.broadcast_arrays(zero, acceleration, acceleration, zero, zero, -acceleration,
-                                -acceleration), axis=-1,
-        )  # fmt: skip
-        return durations, jerks, sign * peak, starts
+                sub = lambda x: np.broadcast_to(x, shape)[free]  # noqa: E731
+                peak[free] = _free_peak(sub(T_full), sub(d), sub(A), sub(J), sub(vp))
+        np.minimum(peak, V, out=peak)
+        tj = np.sqrt(peak / J)
+        np.minimum(tj, A / J, out=tj)
+        ta = peak / A - A / J
+        np.maximum(ta, 0.0, out=ta)
+        tv = T - 4.0 * tj - 2.0 * ta
+        np.maximum(tv, 0.0, out=tv)
+        signed = np.copysign(peak, D)
+        jerk = np.divide(signed, tj * (tj + ta), out=np.zeros(shape), where=tj > 0)
+        return RestProfile(tj, ta, tv, jerk, signed)
 
     return duration, phases_at
