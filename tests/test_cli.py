@@ -144,8 +144,11 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
         "seed004_example2.csv", "seed004_example2.png",
         "summary.txt",
     }  # fmt: skip
-    for stem in ("trapezoid_phase", "trapezoid_time", "trapezoid_phase_dt", "trapezoid_time_dt"):
-        expected |= {f"seed001_{stem}.png", f"seed001_{stem}.csv"}
+    for profile in ("trapezoid", "scurve"):
+        for sync in ("phase", "time"):
+            for suffix in ("", "_dt"):
+                stem = f"seed001_{profile}_{sync}{suffix}"
+                expected |= {f"{stem}.png", f"{stem}.csv"}
     for stem in ("rotate1", "drive", "rotate2"):
         expected |= {f"seed000_jackal_{stem}.png", f"seed000_jackal_{stem}.csv"}
     assert set(names) == expected
@@ -157,8 +160,9 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     summary = (out_dir / "summary.txt").read_text()
     assert "piece 2: [0.55, -0.375, 0.4, -0.075]" in summary
     assert f"wrote {len(names)} files" in out
-    assert "sync=phase, continuous: duration 14.6071428571 s, limits OK" in out
-    assert "sync=phase, dt 2 ms: duration 14.608 s, limits OK" in out
+    assert "trapezoid, sync=phase, continuous: duration 14.6071428571 s, limits OK" in out
+    assert "trapezoid, sync=phase, dt 2 ms: duration 14.608 s, limits OK" in out
+    assert "scurve, sync=time, dt 2 ms: duration 14.858 s, limits OK" in out
     assert "drive sqrt(34) m: minimum duration 32.3941772 s" in out
     assert "the hand value 32 s breaks the limit" in out
     seed000 = tk.Samples.from_csv(out_dir / "seed000_cubic.csv")
@@ -206,3 +210,23 @@ def test_plan_trapezoid_errors(argv, message, capsys):
     assert status == 2
     assert message in err
     assert err.count("\n") == 1
+
+
+def test_plan_scurve_on_controller_period(capsys):
+    status, out, err = run(
+        capsys, "plan", "scurve", "--q0", "0", "--qf", "1,2", "--vmax", "1", "--amax", "2",
+        "--jmax", "10", "--dt", "0.002",
+    )  # fmt: skip
+    assert status == 0, err
+    assert out.splitlines()[0] == (
+        "scurve move: 2 joint(s), duration 2.7 s (set by joint 2), sync=time, "
+        "switching on multiples of dt=0.002 s"
+    )
+    assert "0.2 0.3 0.2 1.3 0.2 0.3 0.2" in out
+    assert "limit check (SI units): OK" in out
+
+
+def test_plan_scurve_needs_all_three_limits(capsys):
+    status, _, err = run(capsys, "plan", "scurve", "--q0", "0", "--qf", "1", "--vmax", "1")
+    assert status == 2
+    assert "scurve needs vmax, amax and jmax; missing amax, jmax" in err

@@ -17,7 +17,7 @@ import trajkit
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import staged_files
 from trajkit.limits import Limits
-from trajkit.profiles import cubic, quintic, septic, trapezoidal
+from trajkit.profiles import cubic, quintic, scurve, septic, trapezoidal
 from trajkit.trajectory import Trajectory
 
 __all__ = ["main"]
@@ -31,13 +31,21 @@ PROFILES: dict[str, frozenset[str]] = {
     "quintic": frozenset({"a0"}),
     "septic": frozenset({"a0"}),
     "trapezoid": frozenset({"sync"}),
+    "scurve": frozenset({"sync", "jmax"}),
 }
 for _name in ("cubic", "quintic", "septic"):
     PROFILES[_name] |= {"jmax"}
 
 
 def _planner(profile: str) -> Callable[..., Trajectory]:
-    return {"cubic": cubic, "quintic": quintic, "septic": septic, "trapezoid": trapezoidal}[profile]
+    planners = {
+        "cubic": cubic,
+        "quintic": quintic,
+        "septic": septic,
+        "trapezoid": trapezoidal,
+        "scurve": scurve,
+    }
+    return planners[profile]
 
 
 class CommandError(Exception):

@@ -105,32 +105,44 @@ def seed003_task_space_line(out: Path, stage: StagedFiles, log: Log) -> None:
 
 
 def seed001_six_joint_synchronization(out: Path, stage: StagedFiles, log: Log) -> None:
-    """Seed 001: six joints, trapezoids, synchronized, continuous and on a 2 ms period."""
+    """Seed 001: six joints, trapezoid and S-curve side by side, synchronized.
+
+    Each continuous and on a 2 ms controller period.
+    """
     q0 = np.zeros(6)
     qf = np.radians([90.0, 75.0, 60.0, 45.0, 30.0, 15.0])
     vmax = np.radians([7.0, 7.0, 7.0, 3.5, 3.5, 3.5])
     amax = np.radians([4.0, 4.0, 4.0, 2.0, 2.0, 2.0])
-    limits = tk.Limits(velocity=vmax, acceleration=amax)
+    trapezoid_limits = tk.Limits(velocity=vmax, acceleration=amax)
     names = [f"joint {j + 1}" for j in range(6)]
+    jmax = 4.0 * amax  # the coursework gives no jerk limit: a quarter second to full acceleration
+    limits = tk.Limits(velocity=vmax, acceleration=amax, jerk=jmax)
     for label, kwargs in (("continuous", {}), ("dt 2 ms", {"dt": 0.002})):
         for sync in ("phase", "time"):
-            trajectory = tk.trapezoidal(q0, qf, vmax, amax, sync=sync, **kwargs)
-            report = trajectory.check(limits)
-            log(
-                f"seed 001 trapezoids, sync={sync}, {label}: duration "
-                f"{trajectory.duration:.12g} s, limits {'OK' if report.ok else 'VIOLATED'}"
-            )
-            v = np.degrees(trajectory.info["peak_velocity"])
-            a = np.degrees([acc[0] for acc in trajectory.info["accelerations"]])
-            log("  peak velocity [deg/s]: " + ", ".join(f"{x:.6g}" for x in v))
-            log("  acceleration [deg/s^2]: " + ", ".join(f"{x:.6g}" for x in a))
-            stem = f"seed001_trapezoid_{sync}" + ("_dt" if kwargs else "")
-            figure = tk.plot.profiles(
-                trajectory, limits, degrees=True, names=names,
-                title=f"Seed 001: sync={sync}, {label}, {trajectory.duration:.6g} s",
-            )  # fmt: skip
-            tk.plot.save(figure, stage.path(out / f"{stem}.png"))
-            trajectory.sample(0.002).to_csv(stage.path(out / f"{stem}.csv"))
+            for profile in ("trapezoid", "scurve"):
+                if profile == "trapezoid":
+                    trajectory = tk.trapezoidal(q0, qf, vmax, amax, sync=sync, **kwargs)
+                else:
+                    trajectory = tk.scurve(q0, qf, vmax, amax, jmax, sync=sync, **kwargs)
+                report = trajectory.check(limits if profile == "scurve" else trapezoid_limits)
+                log(
+                    f"seed 001 {profile}, sync={sync}, {label}: duration "
+                    f"{trajectory.duration:.12g} s, limits {'OK' if report.ok else 'VIOLATED'}"
+                )
+                v = np.degrees(trajectory.info["peak_velocity"])
+                log("  peak velocity [deg/s]: " + ", ".join(f"{x:.6g}" for x in v))
+                if profile == "trapezoid":
+                    a = np.degrees([acc[0] for acc in trajectory.info["accelerations"]])
+                    log("  acceleration [deg/s^2]: " + ", ".join(f"{x:.6g}" for x in a))
+                stem = f"seed001_{profile}_{sync}" + ("_dt" if kwargs else "")
+                figure = tk.plot.profiles(
+                    trajectory, limits, degrees=True, names=names,
+                    orders=(0, 1, 2, 3) if profile == "scurve" else (0, 1, 2),
+                    title=f"Seed 001: {profile}, sync={sync}, {label}, "
+                    f"{trajectory.duration:.6g} s",
+                )  # fmt: skip
+                tk.plot.save(figure, stage.path(out / f"{stem}.png"))
+                trajectory.sample(0.002).to_csv(stage.path(out / f"{stem}.csv"))
 
 
 def seed000_wheeled_lspb(out: Path, stage: StagedFiles, log: Log) -> None:

@@ -20,7 +20,7 @@ from trajkit._validation import (
     positive_joint_vector,
     positive_scalar,
 )
-from trajkit.errors import InfeasibleError
+from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.profiles import _scurve_math as smath
 from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
 from trajkit.profiles._sync import common_duration
@@ -324,6 +324,9 @@ def scurve(
         A boundary velocity beyond ``vmax``, a duration below the minimum, or a
         common duration that no joint set can take.
     """
+    missing = [n for n, x in (("vmax", vmax), ("amax", amax), ("jmax", jmax)) if x is None]
+    if missing:
+        raise InvalidInputError(f"scurve needs vmax, amax and jmax; missing {', '.join(missing)}")
     ndof = count_dof(q0=q0, qf=qf, v0=v0, vf=vf, vmax=vmax, amax=amax, jmax=jmax)
     start = joint_vector("q0", q0, ndof, unit="rad")
     end = joint_vector("qf", qf, ndof, unit="rad")
