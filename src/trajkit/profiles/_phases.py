@@ -79,11 +79,13 @@ def merge_breakpoints(times: FloatArray, duration: float) -> FloatArray:
         return np.zeros(2)
     points = np.sort(np.concatenate([[0.0, duration], times.ravel()]))
     points = points[(points >= 0.0) & (points <= duration)]
-    keep = np.concatenate([[True], np.diff(points) > _MERGE * max(duration, 1.0)])
+    keep = np.concatenate([[True], np.diff(points) > _MERGE * duration])
     points = points[keep]
     points[-1] = duration
-    if points.size >= 2 and points[-1] - points[-2] <= _MERGE * max(duration, 1.0):
+    if points.size >= 2 and points[-1] - points[-2] <= _MERGE * duration:
         points = np.delete(points, -2)
+    if points.size < 2:
+        points = np.array([0.0, duration])
     return points
 
 

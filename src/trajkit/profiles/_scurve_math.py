@@ -40,6 +40,11 @@ including those (the one with both changes unsaturated gives a degree-6
 polynomial, solved by companion-matrix eigenvalues), as a reference for tests.
 
 Fixed duration (:func:`fixed_duration`): see its docstring.
+
+Range: results are exact to rounding for normalized magnitudes (``D J^2 / A^3``,
+``v J / A^2``, ``V J / A^2``) that are zero or between about 1e-100 and 1e100;
+beyond, underflowing terms can make a structure unusable (it is then rejected,
+never accepted with a wrong residual).
 """
 
 from __future__ import annotations
@@ -612,31 +617,42 @@ def _side(D, hi, lo, V):
     only ``hi = max(v0, vf)`` and ``lo = min(v0, vf)`` matter. With ``vp`` rising
     from ``hi`` the changes are: both unsaturated (``vp <= lo + 1``; quartic in
     ``u = x_lo + x_hi``, duration ``2 u``), the one from ``lo`` saturated (quartic
-    in ``x = x_hi``), both saturated (``vp >= hi + 1``; quadratic in ``vp``), and
-    beyond that a coast at ``V``. Returns the durations (``inf`` where invalid) and
-    the unknown solved for (``u``, ``x``, ``vp``, coast time), both ``(..., 11)``.
+    in ``x = x_hi``), both saturated (``vp >= hi + 1``; quadratic in the excess
+    ``vp - hi``), and beyond that a coast at ``V``. Returns the durations (``inf``
+    where invalid) and the unknown solved for (``u``, ``x``, excess, coast time), both
+    ``(..., 11)``.
     """
     D_, hi_, lo_, V_ = _e(D), _e(hi), _e(lo), _e(V)
     c, w = hi - lo, hi + lo
-    c_, w_ = _e(c), _e(w)
-    cc_ = c_ * c_
+    c_ = _e(c)
 
-    # Both unsaturated: u^4 / 4 + w u^2 - D u - c^2 / 4 = 0 (x_lo^2 - x_hi^2 = c).
+    # Both unsaturated: u^4 / 4 + w u^2 - D u - c^2 / 4 = 0 (x_lo^2 - x_hi^2 = c),
+    # solved for u / sigma so that the terms of tiny moves do not underflow.
+    sigma = np.maximum(np.cbrt(np.abs(D)), np.sqrt(np.abs(c)))
+    sigma = np.maximum(sigma, 1e-50 * np.sqrt(np.abs(hi) + np.abs(lo)))
+    sigma = np.where(sigma > 0, sigma, 1.0)
+    w_s, D_s, c_s = w / sigma / sigma, D / sigma / sigma / sigma, c / sigma / sigma
+    w_s_, D_s_, cc_s_ = _e(w_s), _e(D_s), _e(c_s * c_s)
+
     def free(u):
         uu = u * u
-        return ((0.25 * uu + w_) * u - D_) * u - 0.25 * cc_, (uu + 2 * w_) * u - D_
+        return ((0.25 * uu + w_s_) * u - D_s_) * u - 0.25 * cc_s_, (uu + 2 * w_s_) * u - D_s_
 
-    u = _newton(free, _quartic_roots(0 * D, 4 * w, -4 * D, -c * c))
+    u = _newton(free, _quartic_roots(0 * D, 4 * w_s, -4 * D_s, -c_s * c_s))
     value, _ = free(u)
-    uu = u * u
     # Residuals are judged against the sum of the magnitudes of the terms.
-    scale = (np.abs(D_) + (np.abs(hi_) + np.abs(lo_)) * u + 0.25 * uu * u) * u + 0.25 * cc_
-    x_hi = (uu - c_) / (2 * u)
+    scale = (np.abs(D_s_) + _e((np.abs(hi) + np.abs(lo)) / sigma / sigma) * u + 0.25 * u**3) * u
+    scale += 0.25 * cc_s_
+    # (Terms underflowing to nothing leave no test: such a root is not trusted.)
+    residual_ok = (np.abs(value) <= _RESIDUAL * scale) & (scale > 1e-280)
+    u = u * _e(sigma)
+    uu = u * u
+    x_hi = (u - c_ / u) / 2
     ok = (
         (u > 0)
         & (uu >= c_ * (1 - _SLACK))
         & (uu - 2 * u + c_ <= _SLACK * u)
-        & (np.abs(value) <= _RESIDUAL * scale)
+        & residual_ok
         & (hi_ + x_hi * x_hi <= V_ * (1 + _SLACK))
     )
     free = np.where(ok, 2 * u, np.inf)
@@ -745,9 +761,9 @@ def _minimum_time_block(D, v0, vf, V, A, J) -> SCurvePhases:
         tj_hi_c, ta_hi_c, _, _, _ = _change(hi, Vn)
         tj_lo_c, ta_lo_c, _, _, _ = _change(lo, Vn)
         u = np.where(free, root, 1.0)
-        x_hi = np.where(free, (u * u - c) / (2 * u), np.where(one, root, 1.0))
+        x_hi = np.where(free, (u - c / u) / 2, np.where(one, root, 1.0))
         x_hi = np.where(lane == 10, tj_hi_c, np.clip(x_hi, 0.0, 1.0))
-        x_lo = np.where(free, np.clip((u * u + c) / (2 * u), 0.0, 1.0), 1.0)
+        x_lo = np.where(free, np.clip((u + c / u) / 2, 0.0, 1.0), 1.0)
         x_lo = np.where(lane == 10, tj_lo_c, x_lo)
         ta_hi = np.where(both, np.maximum(root - 1, 0.0), np.where(lane == 10, ta_hi_c, 0.0))
         ta_lo = np.where(
@@ -782,13 +798,8 @@ def _minimum_time_block(D, v0, vf, V, A, J) -> SCurvePhases:
 
 # ------------------------------------------------------------------- fixed duration
 def _tc(d):
-    """Normalized duration of the fastest change of size ``d``."""
+    """Normalized duration of the fastest change of size ``d >= 0``."""
     return np.where(d >= 1.0, d + 1.0, 2 * np.sqrt(d))
-
-
-def _span(vp, v0, vf):
-    """Time of the two fastest changes ``v0 -> vp -> vf``."""
-    return _tc(np.abs(vp - v0)) + _tc(np.abs(vf - vp))
 
 
 def _H(z):
@@ -800,11 +811,6 @@ def _H(z):
 def _dH(z):
     d = np.abs(z)
     return np.where(d >= 1.0, d + 0.5, 1.5 * np.sqrt(d))
-
-
-def _coast_distance(vp, T, v0, vf):
-    """Distance of change, coast, change taking ``T`` in all: ``vp T - H(vp-v0) - H(vp-vf)``."""
-    return vp * T - _H(vp - v0) - _H(vp - vf)
 
 
 def _bisect(fun, lo, hi, target, iterations=_BISECTIONS):
@@ -824,17 +830,16 @@ def _bisect(fun, lo, hi, target, iterations=_BISECTIONS):
     return np.where(no_change, nearer, 0.5 * (lo + hi))
 
 
-def _slower_jerk(vp, T, v0, vf):
-    """``z = sqrt(A / J')`` (normalized) making the two changes take exactly ``T``.
+def _slower_jerk(d1, d3, T):
+    """``z = sqrt(A / J')`` (normalized) making changes of sizes ``d1, d3`` take ``T``.
 
     Each change of size ``d`` with jerk ``J' = 1 / z^2`` takes ``d + z^2`` when
     ``d >= z^2`` (saturated), else ``2 z sqrt(d)``; their sum grows with ``z``.
     """
-    d1, d3 = np.abs(vp - v0), np.abs(vf - vp)
     small, large = np.minimum(d1, d3), np.maximum(d1, d3)
     both_saturated = np.sqrt(np.maximum((T - d1 - d3) / 2, 0.0))
     root_sum = np.sqrt(d1) + np.sqrt(d3)
-    both_free = _safe_div(T, 2 * root_sum)
+    both_free = T / (2 * root_sum)
     mixed = -np.sqrt(small) + np.sqrt(np.maximum(small + T - large, 0.0))
     return np.where(
         T - d1 - d3 <= 2 * small,
@@ -843,23 +848,15 @@ def _slower_jerk(vp, T, v0, vf):
     )
 
 
-def _change_with_jerk(va, vb, z):
-    """Change ``va -> vb`` at jerk ``1 / z^2`` (normalized): tj, ta, signed peak a."""
-    dv = vb - va
+def _change_by(dv, z=1.0):
+    """Change of velocity by ``dv`` at jerk ``1 / z^2`` (normalized): tj, ta, peak a, time."""
     d = np.abs(dv)
-    saturated = d >= z * z
-    tj = np.where(saturated, z * z, z * np.sqrt(d))
-    ta = np.where(saturated, d - z * z, 0.0)
-    a = np.sign(dv) * np.where(saturated, 1.0, _safe_div(np.sqrt(d), z))
-    return tj, ta, a
-
-
-def _gap_distance(vp, T, v0, vf):
-    """Distance of the no-coast profile through ``vp`` stretched to ``T`` by a lower jerk."""
-    z = _slower_jerk(vp, T, v0, vf)
-    d1 = np.abs(vp - v0)
-    t1 = np.where(d1 >= z * z, d1 + z * z, 2 * z * np.sqrt(d1))
-    return (v0 + vp) / 2 * t1 + (vp + vf) / 2 * (T - t1)
+    zz = z * z
+    saturated = d >= zz
+    tj = np.where(saturated, zz, z * np.sqrt(d))
+    ta = np.where(saturated, d - zz, 0.0)
+    a = np.sign(dv) * np.where(saturated, 1.0, np.sqrt(d) / z)
+    return tj, ta, a, 2 * tj + ta
 
 
 def fixed_duration(T, D, v0, vf, V, A, J) -> SCurvePhases:
@@ -918,68 +915,76 @@ def _fixed_duration_block(T, D, v0, vf, V, A, J) -> SCurvePhases:
 
 
 def _fixed_duration(T, D, v0, vf, V) -> dict:
+    """Normalized fixed-duration profiles (see :func:`fixed_duration`).
+
+    Peaks are handled as offsets from ``lo = min(v0, vf)`` (``vp = lo + e``, the
+    lower branch) or ``hi = max(v0, vf)`` (``vp = hi + e``, the upper branch), so
+    that small changes on top of large velocities keep their relative precision.
+    """
     lo, hi = np.minimum(v0, vf), np.maximum(v0, vf)
-    mid = 0.5 * (lo + hi)
-    possible = np.isfinite(T) & (T >= 0) & (_tc(hi - lo) <= T * (1 + _SLACK))
+    c = hi - lo
+    possible = np.isfinite(T) & (T >= 0) & (_tc(c) <= T * (1 + _SLACK))
 
-    def span(vp):
-        return _span(vp, v0, vf)
+    # span_lo(e): both fastest changes with vp = lo + e (e <= c); the upper branch
+    # has span_hi(e) = span_lo(-e). Ends of the coast-feasible set span <= T:
+    def span_lo(e):
+        return _tc(np.abs(e)) + _tc(c - e)
 
-    # Ends of the coast-feasible set: span(vp) <= T on [L, p] and [q, R].
-    R = np.where(span(V) <= T, V, _bisect(span, hi, V, T))
-    L = np.where(span(-V) <= T, -V, _bisect(span, -V, lo, T))
-    gap = span(mid) > T
-    p = np.where(gap, _bisect(span, lo, mid, T), mid)
-    q = np.where(gap, lo + hi - p, mid)
+    def span_hi(e):
+        return _tc(np.abs(e)) + _tc(c + e)
 
-    def distance(vp):
-        return _coast_distance(vp, T, v0, vf)
-
+    e_R = np.where(span_hi(V - hi) <= T, V - hi, _bisect(span_hi, 0 * c, V - hi, T))
+    e_L = np.where(span_lo(-V - lo) <= T, -V - lo, _bisect(span_lo, -V - lo, 0 * c, T))
+    gap = span_lo(c / 2) > T
+    e_p = np.where(gap, _bisect(span_lo, 0 * c, c / 2, T), c / 2)
     scale = np.abs(D) + (np.abs(v0) + np.abs(vf) + V) * T + 1e-300
     candidates = []
-    for a, b in ((L, p), (q, R)):
-        fa, fb = distance(a), distance(b)
-        inside = possible & (fa <= D + _SLACK * scale) & (D <= fb + _SLACK * scale)
-        vp = _bisect(distance, a, b, D)
+    # Family 1, lower branch vp = lo + e on [e_L, e_p], upper vp = hi + e on [-e_p, e_R];
+    # ``shift`` is the offset of vp from the other boundary velocity minus e.
+    for upper, base, shift, first, last in ((False, lo, -c, e_L, e_p), (True, hi, c, -e_p, e_R)):
+
+        def distance(e, base=base, shift=shift):
+            return (base + e) * T - _H(e) - _H(e + shift)
+
+        inside = (
+            possible
+            & (distance(first) <= D + _SLACK * scale)
+            & (D <= distance(last) + _SLACK * scale)
+        )
+        e = _bisect(distance, first, last, D)
         for _ in range(2):  # Newton polish, kept inside the bracket
-            slope = T - _dH(vp - v0) - _dH(vp - vf)
-            step = _safe_div(distance(vp) - D, slope)
-            vp = np.clip(np.where(np.isfinite(step), vp - step, vp), a, b)
-        tj1, ta1, a1, t1, _ = _change(v0, vp)
-        tj2, ta2, a2, t2, _ = _change(vp, vf)
-        ok = inside & (np.abs(distance(vp) - D) <= 1e-9 * scale)
-        candidates.append(
-            dict(
-                vp=vp, tj1=tj1, ta1=ta1, a1=a1, j1=np.sign(a1), tv=np.maximum(T - t1 - t2, 0.0),
-                tj2=tj2, ta2=ta2, a2=a2, j2=np.sign(a2), valid=ok, rank=np.abs(vp),
-            )
-        )  # fmt: skip
-    # Gap: vp between v0 and vf, no coast, reduced jerk.
-    for a, b in ((lo, p), (q, hi)):
-        ga, gb = _gap_distance(a, T, v0, vf), _gap_distance(b, T, v0, vf)
-        inside = possible & gap & (np.minimum(ga, gb) <= D) & (D <= np.maximum(ga, gb))
-        vp = _bisect(lambda x: _gap_distance(x, T, v0, vf), a, b, D)
-        z = _slower_jerk(vp, T, v0, vf)
-        tj1, ta1, a1 = _change_with_jerk(v0, vp, z)
-        tj2, ta2, a2 = _change_with_jerk(vp, vf, z)
-        ok = inside & (z >= 1 - _SLACK) & (np.abs(_gap_distance(vp, T, v0, vf) - D) <= 1e-9 * scale)
-        jerk = _safe_div(np.ones_like(z), z * z)
-        candidates.append(
-            dict(
-                vp=vp, tj1=tj1, ta1=ta1, a1=a1, j1=np.sign(a1) * jerk,
-                tv=np.maximum(T - 2 * tj1 - ta1 - 2 * tj2 - ta2, 0.0),
-                tj2=tj2, ta2=ta2, a2=a2, j2=np.sign(a2) * jerk, valid=ok,
-                rank=np.abs(vp) + 2 * V + 1,
-            )
-        )  # fmt: skip
+            slope = T - _dH(e) - _dH(e + shift)
+            step = (distance(e) - D) / slope
+            e = np.clip(np.where(np.isfinite(step), e - step, e), first, last)
+        ok = inside & (np.abs(distance(e) - D) <= 1e-9 * scale)
+        # Offsets of vp from lo and from hi.
+        from_lo, from_hi = (e + c, e) if upper else (e, e - c)
+        candidates.append(_fixed_candidate(v0, vf, base + e, from_lo, from_hi, 1.0, ok, T))
+    # Family 2 (the gap): vp = lo + e or hi - e, e in [0, e_p], no coast, lower jerk.
+    for upper in (False, True):
+
+        def sizes(e, upper=upper):
+            return (c - e, e) if upper else (e, c - e)  # (from lo, from hi)
+
+        def distance(e, upper=upper):
+            d_lo, d_hi = sizes(e)
+            vp = hi - e if upper else lo + e
+            z = _slower_jerk(d_lo, d_hi, T)
+            t_lo = _change_by(d_lo, z)[3]
+            return (lo + vp) / 2 * t_lo + (hi + vp) / 2 * (T - t_lo)
+
+        ends = distance(0 * c), distance(e_p)
+        inside = possible & gap & (np.minimum(*ends) <= D) & (D <= np.maximum(*ends))
+        e = _bisect(distance, 0 * c, e_p, D)
+        d_lo, d_hi = sizes(e)
+        z = _slower_jerk(d_lo, d_hi, T)
+        ok = inside & (z >= 1 - _SLACK) & (np.abs(distance(e) - D) <= 1e-9 * scale)
+        vp = hi - e if upper else lo + e
+        candidates.append(_fixed_candidate(v0, vf, vp, d_lo, -d_hi, z, ok, T, rank=2 * V + 1))
     # Standstill: no time, no distance, no velocity change.
     zero = np.zeros_like(T)
-    candidates.append(
-        dict(
-            vp=v0 + zero, tj1=zero, ta1=zero, a1=zero, j1=zero, tv=zero, tj2=zero, ta2=zero,
-            a2=zero, j2=zero, valid=(T == 0) & (D == 0) & (v0 == vf), rank=zero,
-        )
-    )  # fmt: skip
+    still = (T == 0) & (D == 0) & (v0 == vf)
+    candidates.append(_fixed_candidate(v0, vf, v0 + zero, zero, zero, 1.0, still, T))
     stacked = {k: np.stack([c[k] for c in candidates], axis=-1) for k in candidates[0]}
     key = np.where(stacked["valid"], stacked.pop("rank"), np.inf)
     index = np.argmin(key, axis=-1)[..., np.newaxis]
@@ -987,3 +992,15 @@ def _fixed_duration(T, D, v0, vf, V) -> dict:
     # The coast absorbs the rounding of the other phases: the total is exactly T.
     best["tv"] = np.maximum(T - 2 * best["tj1"] - best["ta1"] - 2 * best["tj2"] - best["ta2"], 0.0)
     return best
+
+
+def _fixed_candidate(v0, vf, vp, from_lo, from_hi, z, valid, T, rank=0.0) -> dict:
+    """Profile through ``vp`` given its signed offsets from ``lo`` and ``hi``."""
+    rising = v0 <= vf  # v0 is lo
+    tj1, ta1, a1, t1 = _change_by(np.where(rising, from_lo, from_hi), z)
+    tj2, ta2, a2, t2 = _change_by(-np.where(rising, from_hi, from_lo), z)
+    jerk = 1.0 / (z * z)
+    return dict(
+        vp=vp, tj1=tj1, ta1=ta1, a1=a1, j1=np.sign(a1) * jerk, tv=np.maximum(T - t1 - t2, 0.0),
+        tj2=tj2, ta2=ta2, a2=a2, j2=np.sign(a2) * jerk, valid=valid, rank=rank + np.abs(vp),
+    )  # fmt: skip

@@ -24,12 +24,17 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.profiles import _scurve_math as smath
 from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
 from trajkit.profiles._sync import common_duration
-from trajkit.profiles.trapezoidal import Sync, _phase_law, _read_sync
+from trajkit.profiles.trapezoidal import Sync, _law_distance, _phase_law, _read_sync
 from trajkit.trajectory import Trajectory
 
 __all__ = ["SCurveSolution", "quantize_scurve", "scurve", "solve_scurve"]
 
-_OFFSETS = (-1, 0, 1)  # whole periods tried around each continuous phase time
+# Whole periods tried around the continuous phase times: jerk phases near their
+# value; holds mostly longer, since a shorter jerk phase needs a longer hold and the
+# quantized profile keeps its peak speed high and lowers its jerk instead.
+_JERK_OFFSETS = (-1, 0, 1, 2)
+_HOLD_OFFSETS = tuple(range(-3, 10))
+_CHUNK = 128  # elements quantized at once (the candidate arrays are ~5400 times larger)
 _MAX_EXTRA_PERIODS = 16
 
 
@@ -92,8 +97,43 @@ def _from_phases(phases: smath.SCurvePhases) -> tuple[FloatArray, FloatArray]:
     return phases.to_phases()
 
 
+_FIELDS = ("vp", "tj1", "ta1", "a1", "j1", "tv", "tj2", "ta2", "a2", "j2", "duration", "valid")
+
+
 def _exact(T: FloatArray, args: tuple[FloatArray, ...]) -> smath.SCurvePhases:
-    return smath.fixed_duration(T, *args)
+    """Profiles taking exactly ``T``; at a joint's own minimum, its fastest profile.
+
+    At the minimum the fixed-duration search meets a double root; the fastest
+    profile is known exactly there (and for vanishing moves it is the only
+    precise answer).
+    """
+    phases = smath.fixed_duration(T, *args)
+    distance, v0, vf = args[:3]
+    # Standing still takes any duration.
+    still = (distance == 0) & (v0 == 0) & (vf == 0)
+    if np.any(still):
+        shape = np.broadcast_shapes(np.shape(phases.valid), np.shape(still))
+        for name in _FIELDS:
+            value = np.broadcast_to(getattr(phases, name), shape).copy()
+            if name == "valid":
+                value[np.broadcast_to(still, shape)] = True
+            elif name == "tv":
+                value = np.where(still, np.broadcast_to(T, shape), value)
+            elif name != "duration":
+                value[np.broadcast_to(still, shape)] = 0.0
+            setattr(phases, name, value)
+    fastest = smath.minimum_time(*args)
+    at_minimum = (T <= fastest.duration * (1 + 1e-12)) & fastest.valid & ~still
+    if not np.any(at_minimum):
+        return phases
+    shape = np.broadcast_shapes(np.shape(phases.valid), np.shape(at_minimum))
+    pick = lambda name: np.where(  # noqa: E731
+        at_minimum, np.broadcast_to(getattr(fastest, name), shape),
+        np.broadcast_to(getattr(phases, name), shape),
+    )  # fmt: skip
+    merged = smath.SCurvePhases(*(pick(name) for name in _FIELDS))
+    merged.duration = np.broadcast_to(T, shape).copy()
+    return merged
 
 
 def solve_scurve(
@@ -127,8 +167,8 @@ def solve_scurve(
         durations, jerks = law.to_phases()
         return SCurveSolution(
             np.broadcast_to(durations[..., np.newaxis, :], (*distance.shape, 7)).copy(),
-            jerks[..., np.newaxis, :] * distance[..., np.newaxis],
-            law.vp[..., np.newaxis] * distance,
+            jerks[..., np.newaxis, :] * _law_distance(distance)[..., np.newaxis],
+            law.vp[..., np.newaxis] * _law_distance(distance),
             T,
             own,
             np.full(np.shape(T), -1),
@@ -144,27 +184,50 @@ def solve_scurve(
 
 
 def _squeeze(phases: smath.SCurvePhases) -> smath.SCurvePhases:
-    names = ("vp", "tj1", "ta1", "a1", "j1", "tv", "tj2", "ta2", "a2", "j2", "duration", "valid")
-    return smath.SCurvePhases(*(getattr(phases, n)[..., 0] for n in names))
+    return smath.SCurvePhases(*(getattr(phases, n)[..., 0] for n in _FIELDS))
 
 
 def _scurve_law(distance, v0, vf, V, A, J):
     """The shared time law ``s: 0 -> 1`` of a phase-synchronized S-curve (symmetric limits)."""
     one, s_v0, s_vf, s_v, _, s_a, _ = _phase_law(distance, v0, vf, V, V, A, A)
-    moving = distance != 0
-    magnitude = np.where(moving, np.abs(distance), np.inf)
-    s_j = (J / magnitude).min(axis=-1)
+    moving = _law_distance(distance) != 0
+    s_j = np.where(moving, J / np.where(moving, np.abs(distance), 1.0), np.inf).min(axis=-1)
     s_j = np.where(moving.any(axis=-1), s_j, 1.0)
     return one, s_v0, s_vf, s_v, s_a, s_j
 
 
 def _integer_phases(
-    steps: FloatArray, dt: float, args: tuple[FloatArray, ...]
+    steps: FloatArray, dt: float, args: tuple[FloatArray, ...], centers: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`_integer_phases_of` in chunks of elements, to bound the memory it takes."""
+    shape = np.broadcast_shapes(np.shape(steps), *(np.shape(a) for a in args))
+    flat = [np.broadcast_to(x, shape).reshape(-1) for x in (steps, *args)]
+    flat_centers = np.broadcast_to(centers, (*shape, 4)).reshape(-1, 4)
+    size = flat[0].size
+    valid = np.zeros(size, bool)
+    durations, jerks = np.zeros((size, 7)), np.zeros((size, 7))
+    peak = np.zeros(size)
+    for begin in range(0, size, _CHUNK):
+        part = slice(begin, begin + _CHUNK)
+        found = _integer_phases_of(
+            flat[0][part], dt, tuple(x[part] for x in flat[1:]), flat_centers[part]
+        )
+        valid[part], durations[part], jerks[part], peak[part] = found
+    return (
+        valid.reshape(shape), durations.reshape(*shape, 7), jerks.reshape(*shape, 7),
+        peak.reshape(shape),
+    )  # fmt: skip
+
+
+def _integer_phases_of(
+    steps: FloatArray, dt: float, args: tuple[FloatArray, ...], centers: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Seven phases in whole multiples of ``dt`` summing to ``steps * dt``.
 
-    Around the continuous profile of that duration, nearby step counts of the two
-    velocity changes' jerk and hold phases are tried (the coast takes the rest).
+    Around two continuous profiles — the gentlest of that duration, and the plan
+    being quantized (``centers``: its jerk and hold times of both changes) — nearby
+    step counts of the two velocity changes' jerk and hold phases are tried (the
+    coast takes the rest).
     Each change keeps its symmetric shape with its own jerk; for given counts the
     peak velocity follows linearly from the distance and the jerks from the
     velocity changes. The valid choice of smallest jerk is kept. Returns
@@ -172,13 +235,18 @@ def _integer_phases(
     """
     D, v0, vf, V, A, J = args
     total = np.broadcast_to(steps * dt, D.shape)
-    smooth = smath.fixed_duration(total, *args)
-    base = [
-        np.round(np.nan_to_num(x) / dt) for x in (smooth.tj1, smooth.ta1, smooth.tj2, smooth.ta2)
-    ]
-    combos = np.array(list(itertools.product(_OFFSETS, repeat=4)), dtype=float)  # (C, 4)
+    smooth = _exact(total, args)
+    gentle = np.stack([smooth.tj1, smooth.ta1, smooth.tj2, smooth.ta2], axis=-1)
+    offsets = np.array(
+        list(itertools.product(_JERK_OFFSETS, _HOLD_OFFSETS, _JERK_OFFSETS, _HOLD_OFFSETS)),
+        dtype=float,
+    )  # (C, 4)
     e = lambda x: np.asarray(x)[..., np.newaxis]  # noqa: E731
-    nj1, na1, nj2, na2 = (e(b) + combos[:, k] for k, b in enumerate(base))
+    counts = [
+        np.round(np.nan_to_num(base) / dt)[..., np.newaxis, :] + offsets
+        for base in (gentle, centers)
+    ]
+    nj1, na1, nj2, na2 = np.moveaxis(np.concatenate(counts, axis=-2), -1, 0)
     N = e(np.broadcast_to(steps, D.shape))
     nv = N - 2 * nj1 - na1 - 2 * nj2 - na2
     T1, T2, tv = (2 * nj1 + na1) * dt, (2 * nj2 + na2) * dt, nv * dt
@@ -198,7 +266,6 @@ def _integer_phases(
     valid &= np.abs(vp) <= e(V) * slack
     valid &= (np.abs(j1) <= e(J) * slack) & (np.abs(j2) <= e(J) * slack)
     valid &= (np.abs(j1) * tj1 <= e(A) * slack) & (np.abs(j2) * tj2 <= e(A) * slack)
-    valid &= e(smooth.valid)
     score = np.where(valid, np.maximum(np.abs(j1), np.abs(j2)), np.inf)
     pick = np.argmin(score, axis=-1)[..., np.newaxis]
     take = lambda x: np.take_along_axis(np.broadcast_to(x, score.shape), pick, axis=-1)[..., 0]  # noqa: E731
@@ -220,24 +287,27 @@ def quantize_scurve(
     """
     if sync == "phase":
         law_args = tuple(np.asarray(x)[..., np.newaxis] for x in _scurve_law(*args))
+        law_durations, law_jerks = smath.minimum_time(*law_args).to_phases()
         law = quantize_scurve(
             SCurveSolution(
-                None, None, None, None, np.asarray(solution.duration)[..., np.newaxis], None
+                law_durations, law_jerks, None, None,
+                np.asarray(solution.duration)[..., np.newaxis], None,
             ),
             dt,
             law_args,
             None,
-        )
+        )  # fmt: skip
         distance = args[0]
         return SCurveSolution(
             np.broadcast_to(law.durations, (*distance.shape, 7)).copy(),
-            law.jerks * distance[..., np.newaxis],
-            law.peak_velocity * distance,
+            law.jerks * _law_distance(distance)[..., np.newaxis],
+            law.peak_velocity * _law_distance(distance),
             law.duration,
             solution.own,
             solution.limiting,
         )
     per_joint = sync is None
+    centers = solution.durations[..., [0, 1, 4, 5]]
     target = solution.own if per_joint else solution.duration
     steps = np.ceil(np.asarray(target) / dt - 1e-9)
     shape = args[0].shape
@@ -247,7 +317,7 @@ def quantize_scurve(
     done = np.zeros(np.shape(steps), bool)
     for _ in range(_MAX_EXTRA_PERIODS):
         valid, d, j, vp = _integer_phases(
-            steps if per_joint else np.asarray(steps)[..., np.newaxis], dt, args
+            steps if per_joint else np.asarray(steps)[..., np.newaxis], dt, args, centers
         )
         ok = valid if per_joint else valid.all(axis=-1)
         new = ok & ~done

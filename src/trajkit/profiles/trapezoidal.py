@@ -178,6 +178,11 @@ def solve_trapezoid(
     return TrapezoidSolution(times, accelerations, phases.vp, T, own, limiting)
 
 
+# Distances below this are no motion for the shared time law of phase sync: the
+# law's limits (limit / distance) would overflow. It is far below any resolution.
+_NEGLIGIBLE = 1e-150
+
+
 def _phase_law(
     distance: FloatArray,
     v0: FloatArray,
@@ -195,7 +200,7 @@ def _phase_law(
     ``v0 = D s'(0)`` and ``vf = D s'(T)``. Returns the law's ``(D, v0, vf, vpos,
     vneg, apos, aneg)`` with the joint axis dropped (distance 0 when nothing moves).
     """
-    moving = distance != 0
+    moving = np.abs(distance) > _NEGLIGIBLE
     with np.errstate(divide="ignore", invalid="ignore"):
         s_v0 = np.where(moving, v0 / distance, -np.inf).max(axis=-1)
         s_vf = np.where(moving, vf / distance, -np.inf).max(axis=-1)
@@ -210,12 +215,14 @@ def _phase_law(
             "sync='phase' needs boundary velocities parallel to the move (v0 and vf "
             "proportional to qf - q0, joint by joint); use sync='time' otherwise"
         )
-    magnitude = np.where(moving, np.abs(distance), np.inf)
+    magnitude = np.where(moving, np.abs(distance), 1.0)
     positive = distance > 0
     limits = []
     for up, down in ((vpos, vneg), (apos, aneg)):
-        limits.append((np.where(positive, up, down) / magnitude).min(axis=-1))
-        limits.append((np.where(positive, down, up) / magnitude).min(axis=-1))
+        # A joint that does not move puts no bound on the law.
+        for along, against in ((up, down), (down, up)):
+            ratio = np.where(moving, np.where(positive, along, against) / magnitude, np.inf)
+            limits.append(ratio.min(axis=-1))
     still = ~moving.any(axis=-1)
     # Nothing moves: any positive limits will do for the (empty) law.
     limits = [np.where(still, 1.0, limit) for limit in limits]
@@ -223,10 +230,16 @@ def _phase_law(
     return (np.where(still, 0.0, 1.0), s_v0, s_vf, s_vpos, s_vneg, s_apos, s_aneg)
 
 
+def _law_distance(distance: FloatArray) -> FloatArray:
+    """Each joint's share of the shared time law (negligible distances count as 0)."""
+    return np.where(np.abs(distance) > _NEGLIGIBLE, distance, 0.0)
+
+
 def _scale_law(
     law_times: FloatArray, law_acc: FloatArray, law_vp: FloatArray, distance: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Joint phases from the shared law's phases (law arrays have no joint axis)."""
+    distance = _law_distance(distance)
     times = np.broadcast_to(law_times[..., np.newaxis, :], (*distance.shape, 3)).copy()
     accelerations = law_acc[..., np.newaxis, :] * distance[..., np.newaxis]
     return times, accelerations, law_vp[..., np.newaxis] * distance

@@ -1,0 +1,203 @@
+"""The public S-curve planner: boundary states, limits, synchronization, dt, bad input."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+# Test files in subfolders do not see tests/ on sys.path by themselves.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import support
+import trajkit as tk
+
+LIMIT_SLACK = 1e-9  # relative: the exact check's tolerance
+
+
+@st.composite
+def problems(draw: st.DrawFn, moving: bool = False) -> dict:
+    ndof = draw(st.integers(1, 4))
+    arr = lambda lo, hi: np.array(draw(st.lists(st.floats(lo, hi), min_size=ndof, max_size=ndof)))  # noqa: E731
+    p = {
+        "q0": arr(-3, 3),
+        "qf": arr(-3, 3),
+        "V": arr(0.2, 3),
+        "A": arr(0.2, 10),
+        "J": arr(0.5, 100),
+    }
+    if draw(st.booleans()):
+        p["qf"][0] = p["q0"][0]  # an exact zero move
+    p["v0"] = arr(-1, 1) * p["V"] if moving else np.zeros(ndof)
+    p["vf"] = arr(-1, 1) * p["V"] if moving else np.zeros(ndof)
+    return p
+
+
+def plan(p: dict, **kwargs) -> tk.Trajectory:
+    return tk.scurve(p["q0"], p["qf"], p["V"], p["A"], p["J"], v0=p["v0"], vf=p["vf"], **kwargs)
+
+
+def limits(p: dict) -> tk.Limits:
+    return tk.Limits(velocity=p["V"], acceleration=p["A"], jerk=p["J"])
+
+
+def assert_boundaries(tr: tk.Trajectory, p: dict) -> None:
+    start, end = tr.start_state, tr.end_state
+    support.assert_state(start.position, p["q0"])
+    support.assert_state(start.velocity, p["v0"])
+    support.assert_state(end.position, p["qf"])
+    support.assert_state(end.velocity, p["vf"])
+    support.assert_state(start.acceleration, np.zeros_like(p["q0"]))
+    support.assert_state(end.acceleration, np.zeros_like(p["q0"]))
+
+
+@settings(max_examples=60)
+@given(p=problems(moving=True), sync=st.sampled_from(["time", None]))
+def test_boundaries_exact_and_limits_never_exceeded(p, sync):
+    tr = plan(p, sync=sync)
+    if sync is None:
+        # Each joint arrives at its own time; an early one then coasts on at vf.
+        for j, times in enumerate(tr.info["phase_times"]):
+            arrival = sum(times)
+            support.assert_state(tr.position(arrival)[j], p["qf"][j])
+            support.assert_state(tr.velocity(arrival)[j], p["vf"][j])
+    else:
+        assert_boundaries(tr, p)
+    assert tr.check(limits(p)).ok
+    support.assert_continuous(tr, 2)  # jerk-limited: position, velocity, acceleration
+
+
+@settings(max_examples=60)
+@given(p=problems())
+def test_time_sync_finishes_together_and_rest_moves_never_overshoot(p):
+    tr = plan(p, sync="time")
+    for times in tr.info["phase_times"]:
+        assert sum(times) == pytest.approx(tr.duration, rel=1e-12, abs=1e-12)
+    assert tr.duration == pytest.approx(max(tr.info["minimum_durations"]), rel=1e-12)
+    extrema = tr.extrema(0)
+    low, high = np.minimum(p["q0"], p["qf"]), np.maximum(p["q0"], p["qf"])
+    assert np.all(extrema.minimum >= low - 1e-9 * (1 + np.abs(low)))
+    assert np.all(extrema.maximum <= high + 1e-9 * (1 + np.abs(high)))
+
+
+@settings(max_examples=40)
+@given(p=problems())
+def test_phase_sync_moves_on_a_straight_line(p):
+    tr = plan(p, sync="phase")
+    assert tr.check(limits(p)).ok
+    assert_boundaries(tr, p)
+    distance = p["qf"] - p["q0"]
+    t = np.linspace(0, tr.duration, 37)
+    offset = tr.position(t) - p["q0"]
+    # Every joint's progress is the same fraction s(t) of its distance.
+    moving = np.flatnonzero(distance)
+    if moving.size:
+        s = offset[:, moving[0]] / distance[moving[0]]
+        np.testing.assert_allclose(
+            offset, np.outer(s, distance), atol=1e-9 * (1 + np.abs(distance).max())
+        )
+    assert tr.info["limiting_joint"] is None
+
+
+@settings(max_examples=30)
+@given(p=problems(), sync=st.sampled_from(["time", "phase", None]))
+def test_dt_quantizes_every_switch_and_costs_less_than_two_periods(p, sync):
+    dt = 0.002
+    continuous = plan(p, sync=sync)
+    tr = plan(p, sync=sync, dt=dt)
+    assert tr.check(limits(p)).ok
+    assert_boundaries(tr, p)
+    steps = np.array(tr.info["phase_times"]) / dt
+    np.testing.assert_allclose(steps, np.round(steps), atol=1e-6)
+    assert tr.duration / dt == pytest.approx(round(tr.duration / dt), abs=1e-6)
+    assert tr.duration < continuous.duration + 2 * dt
+
+
+def test_rest_to_rest_closed_forms():
+    # Long move: reaches vmax and amax: T = D / V + V / A + A / J.
+    tr = tk.scurve(0, 10, 1.0, 2.0, 8.0)
+    assert tr.duration == pytest.approx(10 / 1 + 1 / 2 + 2 / 8, rel=1e-12)
+    # Short move, no saturation: T = 4 (D / (2 J))^(1/3).
+    tr = tk.scurve(0, 1e-3, 1.0, 2.0, 8.0)
+    assert tr.duration == pytest.approx(4 * (1e-3 / 16) ** (1 / 3), rel=1e-12)
+    assert tr.extrema(3).peak[0] == pytest.approx(8.0, rel=1e-12)
+
+
+def test_negative_and_zero_moves():
+    tr = tk.scurve([0, 1], [-2, 1], 1, 1, 1)
+    assert tr.end_state.position.tolist() == pytest.approx([-2, 1], abs=1e-12)
+    still = tk.scurve([1, 1], [1, 1], 1, 1, 1)
+    assert still.duration == 0.0
+
+
+def test_seed001_side_by_side_with_trapezoid():
+    q0 = np.zeros(6)
+    qf = np.radians([90.0, 75.0, 60.0, 45.0, 30.0, 15.0])
+    vmax = np.radians([7.0, 7.0, 7.0, 3.5, 3.5, 3.5])
+    amax = np.radians([4.0, 4.0, 4.0, 2.0, 2.0, 2.0])
+    jmax = 4 * amax
+    trapezoid = tk.trapezoidal(q0, qf, vmax, amax, sync="phase")
+    scurve = tk.scurve(q0, qf, vmax, amax, jmax, sync="phase")
+    # The jerk limit adds A / J = 0.25 s to the trapezoid's 14.607142857142858 s.
+    assert scurve.duration == pytest.approx(trapezoid.duration + 0.25, rel=1e-12)
+
+
+def test_duration_given_and_too_short():
+    tr = tk.scurve(0, 1, 1, 1, 1, duration=5.0)
+    assert tr.duration == 5.0
+    assert tr.check(tk.Limits(velocity=1, acceleration=1, jerk=1)).ok
+    with pytest.raises(tk.InfeasibleError, match=r"duration 1 s is below the minimum 3\.17"):
+        tk.scurve(0, 1, 1, 1, 1, duration=1.0)
+
+
+def test_info_describes_the_plan():
+    tr = tk.scurve([0, 0], [1, 3], 1, 2, 10)
+    assert tr.info["planner"] == "scurve"
+    assert tr.info["limiting_joint"] == 1
+    assert len(tr.info["phase_times"][0]) == 7
+    assert max(abs(j) for j in tr.info["jerks"][1]) == pytest.approx(10)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "message"),
+    [
+        ({"vmax": -1}, tk.InvalidInputError, "vmax must be > 0"),
+        ({"amax": 0}, tk.InvalidInputError, "amax must be > 0"),
+        ({"jmax": float("nan")}, tk.InvalidInputError, "jmax must be finite"),
+        ({"jmax": None}, tk.InvalidInputError, "missing jmax"),
+        ({"v0": 2.0}, tk.InfeasibleError, "v0=2 rad/s is beyond vmax=1"),
+        ({"vf": -1.5}, tk.InfeasibleError, "vf=-1.5 rad/s is beyond vmax=1"),
+        ({"sync": "fast"}, tk.InvalidInputError, "sync must be 'time', 'phase' or None"),
+        ({"dt": 0}, tk.InvalidInputError, "dt must be > 0"),
+        ({"qf": [1, 2, 3], "vmax": [1, 1]}, tk.InvalidInputError, "has 2 joints but qf has 3"),
+    ],
+)
+def test_bad_input(kwargs, error, message):
+    args = {"q0": 0.0, "qf": 1.0, "vmax": 1.0, "amax": 1.0, "jmax": 1.0}
+    args.update(kwargs)
+    q0, qf = args.pop("q0"), args.pop("qf")
+    with pytest.raises(error, match=message):
+        tk.scurve(q0, qf, args.pop("vmax"), args.pop("amax"), args.pop("jmax"), **args)
+
+
+def test_batch_matches_single_problems():
+    rng = np.random.default_rng(7)
+    q0, qf = rng.uniform(-2, 2, (25, 3)), rng.uniform(-2, 2, (25, 3))
+    V, A, J = rng.uniform(0.5, 2, 3), rng.uniform(1, 5, 3), rng.uniform(5, 50, 3)
+    for sync in ("time", "phase", None):
+        plans = tk.batch.scurve(q0, qf, V, A, J, sync=sync)
+        for i in (0, 11, 24):
+            single = tk.scurve(q0[i], qf[i], V, A, J, sync=sync)
+            assert plans.durations[i] == pytest.approx(single.duration, rel=1e-12)
+            t = np.linspace(0, single.duration, 9)
+            np.testing.assert_allclose(plans.position(t)[i], single.position(t), atol=1e-12)
+            np.testing.assert_allclose(plans[i].velocity(t), single.velocity(t), atol=1e-12)
+
+
+def test_batch_rejects_asymmetric_limits():
+    with pytest.raises(tk.InvalidInputError, match="symmetric magnitudes"):
+        tk.batch.scurve(np.zeros((2, 1)), np.ones((2, 1)), (-1, 1), 1, 1)
