@@ -704,10 +704,11 @@ def minimum_time(D, v0, vf, V, A, J) -> SCurvePhases:
     The peak lies above both boundary velocities (rise then fall) or below both
     (fall then rise, solved as the mirrored problem); each side has four
     structures (see :func:`_side`), and the standstill ``D = 0, v0 = vf`` takes no
-    time. Profiles whose peak lies between ``v0`` and ``vf`` without a coast are
-    never faster (their jerk switches three times between constraint arcs, more
-    than a time-optimal triple integrator does) and are not searched; the
-    exhaustive search over every region (``_every_region_durations``) confirms it.
+    time. Profiles whose peak lies strictly between ``v0`` and ``vf`` without a
+    coast are not searched: they are never faster (with both changes unsaturated
+    the jerk switches three times with no constraint arc, more than a
+    time-optimal triple integrator does; for the other such regions the tests
+    check it against the exhaustive search ``_every_region_durations``).
 
     Parameters
     ----------
@@ -868,24 +869,30 @@ def fixed_duration(T, D, v0, vf, V, A, J) -> SCurvePhases:
        change to ``vp``, coast, fastest change to ``vf``; the coast fills the time
        left, so the distance ``F(vp) = vp T - H(vp - v0) - H(vp - vf)`` (``H`` the
        odd extension of ``d Tc(d) / 2``) must equal ``D``. ``F`` is strictly
-       increasing wherever the coast time is >= 0, a set made of at most two
-       intervals ``[L, p]`` and ``[q, R]`` (the changes alone take longer than
-       ``T`` for ``vp`` strictly between ``p`` and ``q``, which lie between ``v0``
-       and ``vf``). Each interval holds at most one solution, found by bisection
-       to full precision; the one of smallest ``|vp|`` is kept. For ``v0 = vf = 0``
-       this always succeeds when ``T`` is at least the minimum time.
-    2. *Lower jerk, no coast* (fills the gap ``F(p) < D < F(q)`` of family 1):
-       ``vp`` between ``v0`` and ``vf``, both changes with the same reduced jerk
-       ``J' <= J`` (acceleration still saturating at ``A`` where needed) such that
-       they take exactly ``T``. Along ``vp`` from ``p`` to the nearer of ``v0, vf``
-       the distance runs continuously from ``F(p)`` (or ``F(q)``) to
-       ``T (v0 + vf) / 2``, so the gap is covered; solved by bisection on ``vp``.
+       increasing wherever the coast time is >= 0 (``dF/dvp`` exceeds the coast
+       time), a set made of at most two intervals ``[L, p]`` and ``[q, R]`` (for
+       ``vp`` strictly between ``p`` and ``q``, which lie between ``v0`` and
+       ``vf``, the changes alone take longer than ``T``). Each interval holds at
+       most one solution, found by bisection and Newton polish to full precision;
+       the one of smallest ``|vp|`` is kept. For ``v0 = vf = 0`` the set is one
+       interval around 0 and ``F`` runs from 0 past ``D`` on it whenever ``T`` is
+       at least the minimum time: rest-to-rest moves always succeed, at full ``A``
+       and ``J`` with a lower peak velocity.
+    2. *Lower jerk, no coast*, used only where family 1 has no solution (``D``
+       between ``F(p)`` and ``F(q)``): ``vp`` between ``v0`` and ``vf``, both
+       changes with the same reduced jerk ``J' <= J`` (acceleration saturating at
+       ``A`` where needed) such that together they take exactly ``T``. As ``vp``
+       goes from ``p`` to the nearer of ``v0, vf`` the distance runs continuously
+       from ``F(p)`` (or ``F(q)``) to ``T (v0 + vf) / 2``, so the gap is covered;
+       solved by bisection on ``vp``.
 
-    Together they reach every ``D`` between the shortest and the longest distance
-    that family 1 covers in time ``T`` (coasting at ``-V`` or ``+V`` at the ends).
-    ``valid`` is False elsewhere: there ``T`` cannot be met by these profiles
-    (typically a duration inside a blocked interval of a move with moving
-    boundaries, or ``T`` below the minimum time).
+    Together they reach every ``D`` between the distances ``F`` at the outer ends
+    ``L`` and ``R`` (a coast at ``-V`` or ``+V``, or no coast). ``valid`` is False
+    elsewhere: ``T`` below the minimum time, or inside a blocked interval of a move
+    with moving boundaries (in the tests every such failure is one where ruckig,
+    asked for at least ``T``, also needs longer). A standstill (``T = 0``,
+    ``D = 0``, ``v0 = vf``) is valid. Profiles ending in a coast at ``vf`` after a
+    coast at ``v0`` (nine phases) are not represented.
 
     Parameters
     ----------
@@ -897,7 +904,8 @@ def fixed_duration(T, D, v0, vf, V, A, J) -> SCurvePhases:
     Returns
     -------
     SCurvePhases
-        ``duration`` is ``T``; ``j1``, ``j2`` carry the jerk used (``+-J`` or lower).
+        ``duration`` is ``T`` (also where invalid); ``j1``, ``j2`` carry the jerk
+        used (``+-J``, or lower in family 2).
     """
     return _blocked(_fixed_duration_block, _inputs(T, D, v0, vf, V, A, J))
 

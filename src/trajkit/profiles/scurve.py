@@ -34,7 +34,8 @@ __all__ = ["SCurveSolution", "quantize_scurve", "scurve", "solve_scurve"]
 # quantized profile keeps its peak speed high and lowers its jerk instead.
 _JERK_OFFSETS = (-1, 0, 1, 2)
 _HOLD_OFFSETS = tuple(range(-3, 10))
-_CHUNK = 128  # elements quantized at once (the candidate arrays are ~5400 times larger)
+_COMBOS = 2 * (len(_JERK_OFFSETS) * len(_HOLD_OFFSETS)) ** 2  # per element, both centres
+_CANDIDATES_PER_CHUNK = 1_000_000  # bounds the memory of one quantization step
 _MAX_EXTRA_PERIODS = 16
 
 
@@ -197,7 +198,11 @@ def _scurve_law(distance, v0, vf, V, A, J):
 
 
 def _integer_phases(
-    steps: FloatArray, dt: float, args: tuple[FloatArray, ...], centers: FloatArray
+    steps: FloatArray,
+    dt: float,
+    args: tuple[FloatArray, ...],
+    centers: FloatArray,
+    ramps: tuple[int, ...] = (0,),
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """:func:`_integer_phases_of` in chunks of elements, to bound the memory it takes."""
     shape = np.broadcast_shapes(np.shape(steps), *(np.shape(a) for a in args))
@@ -207,10 +212,11 @@ def _integer_phases(
     valid = np.zeros(size, bool)
     durations, jerks = np.zeros((size, 7)), np.zeros((size, 7))
     peak = np.zeros(size)
-    for begin in range(0, size, _CHUNK):
-        part = slice(begin, begin + _CHUNK)
+    chunk = max(1, _CANDIDATES_PER_CHUNK // (len(ramps) ** 2 * _COMBOS))
+    for begin in range(0, size, chunk):
+        part = slice(begin, begin + chunk)
         found = _integer_phases_of(
-            flat[0][part], dt, tuple(x[part] for x in flat[1:]), flat_centers[part]
+            flat[0][part], dt, tuple(x[part] for x in flat[1:]), flat_centers[part], ramps
         )
         valid[part], durations[part], jerks[part], peak[part] = found
     return (
@@ -219,61 +225,107 @@ def _integer_phases(
     )  # fmt: skip
 
 
+def _excess_distance(t1: FloatArray, t2: FloatArray, t3: FloatArray) -> FloatArray:
+    """Distance a velocity change covers beyond its start speed, per unit peak acceleration.
+
+    Acceleration ramps up over ``t1``, holds over ``t2``, ramps down over ``t3``.
+    """
+    return t1 * t1 / 6 + t1 * t2 / 2 + t2 * t2 / 2 + (t1 / 2 + t2) * t3 + t3 * t3 / 3
+
+
 def _integer_phases_of(
-    steps: FloatArray, dt: float, args: tuple[FloatArray, ...], centers: FloatArray
+    steps: FloatArray,
+    dt: float,
+    args: tuple[FloatArray, ...],
+    centers: FloatArray,
+    ramps: tuple[int, ...],
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Seven phases in whole multiples of ``dt`` summing to ``steps * dt``.
 
     Around two continuous profiles — the gentlest of that duration, and the plan
-    being quantized (``centers``: its jerk and hold times of both changes) — nearby
-    step counts of the two velocity changes' jerk and hold phases are tried (the
-    coast takes the rest).
-    Each change keeps its symmetric shape with its own jerk; for given counts the
-    peak velocity follows linearly from the distance and the jerks from the
-    velocity changes. The valid choice of smallest jerk is kept. Returns
-    ``valid``, ``durations`` (..., 7), ``jerks`` (..., 7) and ``vp``.
+    being quantized (``centers``: its ramp and hold times of both changes) —
+    nearby step counts of each velocity change's ramp-up, hold and ramp-down are
+    tried (the ramp-down differs from the ramp-up by one of ``ramps`` steps; the
+    coast takes the rest). For given counts the peak velocity follows linearly
+    from the distance (a change of peak acceleration ``a`` covers its start speed
+    times its duration plus ``a`` times :func:`_excess_distance`), then the peak
+    accelerations and the jerks of each ramp. The valid choice of smallest jerk
+    is kept. Returns ``valid``, ``durations`` (..., 7), ``jerks`` (..., 7), ``vp``.
     """
     D, v0, vf, V, A, J = args
     total = np.broadcast_to(steps * dt, D.shape)
     smooth = _exact(total, args)
     gentle = np.stack([smooth.tj1, smooth.ta1, smooth.tj2, smooth.ta2], axis=-1)
     offsets = np.array(
-        list(itertools.product(_JERK_OFFSETS, _HOLD_OFFSETS, _JERK_OFFSETS, _HOLD_OFFSETS)),
+        list(
+            itertools.product(
+                _JERK_OFFSETS, _HOLD_OFFSETS, ramps, _JERK_OFFSETS, _HOLD_OFFSETS, ramps
+            )
+        ),
         dtype=float,
-    )  # (C, 4)
+    )  # (C, 6): ramp-up, hold, ramp-down minus ramp-up; for both changes
     e = lambda x: np.asarray(x)[..., np.newaxis]  # noqa: E731
-    counts = [
-        np.round(np.nan_to_num(base) / dt)[..., np.newaxis, :] + offsets
-        for base in (gentle, centers)
-    ]
-    nj1, na1, nj2, na2 = np.moveaxis(np.concatenate(counts, axis=-2), -1, 0)
+    counts = []
+    for base in (gentle, centers):
+        b = np.round(np.nan_to_num(base) / dt)[..., np.newaxis, :]  # (..., 1, 4)
+        counts.append(
+            np.stack(
+                [
+                    b[..., 0] + offsets[:, 0], b[..., 1] + offsets[:, 1],
+                    b[..., 0] + offsets[:, 0] + offsets[:, 2],
+                    b[..., 2] + offsets[:, 3], b[..., 3] + offsets[:, 4],
+                    b[..., 2] + offsets[:, 3] + offsets[:, 5],
+                ],
+                axis=-1,
+            )
+        )  # fmt: skip
+    n = np.moveaxis(np.concatenate(counts, axis=-2), -1, 0)  # (6, ..., C)
     N = e(np.broadcast_to(steps, D.shape))
-    nv = N - 2 * nj1 - na1 - 2 * nj2 - na2
-    T1, T2, tv = (2 * nj1 + na1) * dt, (2 * nj2 + na2) * dt, nv * dt
+    nv = N - n.sum(axis=0)
+    t = n * dt
+    tv = nv * dt
     with np.errstate(all="ignore"):
-        vp = (e(D) - e(v0) * T1 / 2 - e(vf) * T2 / 2) / (T1 / 2 + tv + T2 / 2)
-        tj1, ta1, tj2, ta2 = nj1 * dt, na1 * dt, nj2 * dt, na2 * dt
-        j1 = np.where(nj1 > 0, (vp - e(v0)) / (tj1 * (tj1 + ta1)), 0.0)
-        j2 = np.where(nj2 > 0, (e(vf) - vp) / (tj2 * (tj2 + ta2)), 0.0)
+        M1 = t[0] / 2 + t[1] + t[2] / 2  # velocity change per unit peak acceleration
+        M2 = t[3] / 2 + t[4] + t[5] / 2
+        E1, E2 = _excess_distance(t[0], t[1], t[2]), _excess_distance(t[3], t[4], t[5])
+        T1, T2 = t[0] + t[1] + t[2], t[3] + t[4] + t[5]
+        # D = v0 T1 + (vp - v0) E1 / M1 + vp (tv + T2) + (vf - vp) E2 / M2, linear in vp.
+        r1 = np.where(M1 > 0, E1 / M1, 0.0)
+        r2 = np.where(M2 > 0, E2 / M2, 0.0)
+        vp = (e(D) - e(v0) * (T1 - r1) - e(vf) * r2) / (r1 + tv + T2 - r2)
+        vp = np.where(M1 > 0, vp, e(v0))  # no first change: the coast is at v0
+        a1 = np.where(M1 > 0, (vp - e(v0)) / M1, 0.0)
+        a2 = np.where(M2 > 0, (e(vf) - vp) / M2, 0.0)
+        jerks = [np.where(t[k] > 0, a / t[k], 0.0) for k, a in ((0, a1), (2, a1), (3, a2), (5, a2))]
+        covered = e(v0) * T1 + a1 * E1 + vp * tv + vp * T2 + a2 * E2
     slack = 1 + 1e-12
-    changes_ok = ((nj1 > 0) | (np.abs(vp - e(v0)) <= 1e-12 * e(V))) & (
-        (nj2 > 0) | (np.abs(e(vf) - vp) <= 1e-12 * e(V))
-    )
-    counts_ok = (nj1 >= 0) & (na1 >= 0) & (nj2 >= 0) & (na2 >= 0) & (nv >= 0)
-    # A hold phase needs jerk phases around it.
-    shape_ok = ((na1 == 0) | (nj1 > 0)) & ((na2 == 0) | (nj2 > 0))
-    valid = counts_ok & shape_ok & changes_ok & np.isfinite(vp)
+    scale = np.abs(e(D)) + (np.abs(e(v0)) + np.abs(e(vf)) + e(V)) * e(total) + 1e-300
+    valid = (n >= 0).all(axis=0) & (nv >= 0) & np.isfinite(vp)
+    # A hold needs ramps around it; a change needs time unless it changes nothing.
+    valid &= ((n[1] == 0) | ((n[0] > 0) & (n[2] > 0))) & ((n[4] == 0) | ((n[3] > 0) & (n[5] > 0)))
+    valid &= ((n[0] > 0) == (n[2] > 0)) & ((n[3] > 0) == (n[5] > 0))
+    valid &= (M1 > 0) | (np.abs(vp - e(v0)) <= 1e-12 * e(V))
+    valid &= (M2 > 0) | (np.abs(e(vf) - vp) <= 1e-12 * e(V))
+    valid &= np.abs(covered - e(D)) <= 1e-9 * scale
     valid &= np.abs(vp) <= e(V) * slack
-    valid &= (np.abs(j1) <= e(J) * slack) & (np.abs(j2) <= e(J) * slack)
-    valid &= (np.abs(j1) * tj1 <= e(A) * slack) & (np.abs(j2) * tj2 <= e(A) * slack)
-    score = np.where(valid, np.maximum(np.abs(j1), np.abs(j2)), np.inf)
+    valid &= (np.abs(a1) <= e(A) * slack) & (np.abs(a2) <= e(A) * slack)
+    steepest = np.maximum.reduce([np.abs(j) for j in jerks])
+    valid &= steepest <= e(J) * slack
+    score = np.where(valid, steepest, np.inf)
     pick = np.argmin(score, axis=-1)[..., np.newaxis]
     take = lambda x: np.take_along_axis(np.broadcast_to(x, score.shape), pick, axis=-1)[..., 0]  # noqa: E731
-    a, b, c, d, v, g1, g2, peak = (take(x) for x in (tj1, ta1, tj2, ta2, tv, j1, j2, vp))
-    zero = np.zeros_like(a)
-    durations = np.stack([a, b, a, v, c, d, c], axis=-1)
-    jerks = np.stack([g1, zero, -g1, zero, g2, zero, -g2], axis=-1)
-    return valid.any(axis=-1), durations, jerks, peak
+    durations = np.stack(
+        [take(t[0]), take(t[1]), take(t[2]), take(tv), take(t[3]), take(t[4]), take(t[5])],
+        axis=-1,
+    )
+    zero = np.zeros(durations.shape[:-1])
+    j_up1, j_down1, j_up2, j_down2 = (take(j) for j in jerks)
+    jerk_table = np.stack([j_up1, zero, -j_down1, zero, j_up2, zero, -j_down2], axis=-1)
+    return valid.any(axis=-1), durations, jerk_table, take(vp)
+
+
+def _select(x: FloatArray, mask: FloatArray, where: tuple[FloatArray, ...]) -> FloatArray:
+    return np.broadcast_to(x, mask.shape)[where]
 
 
 def quantize_scurve(
@@ -316,9 +368,19 @@ def quantize_scurve(
     peak = np.zeros(shape)
     done = np.zeros(np.shape(steps), bool)
     for _ in range(_MAX_EXTRA_PERIODS):
-        valid, d, j, vp = _integer_phases(
-            steps if per_joint else np.asarray(steps)[..., np.newaxis], dt, args, centers
-        )
+        trial = steps if per_joint else np.asarray(steps)[..., np.newaxis]
+        valid, d, j, vp = _integer_phases(trial, dt, args, centers)
+        retry = ~valid
+        if retry.any():
+            # Symmetric changes found no whole-period profile here: let each change's
+            # ramp-down differ from its ramp-up by a step (each ramp its own jerk).
+            where = np.nonzero(retry)
+            found = _integer_phases(
+                _select(trial, retry, where), dt, tuple(_select(a, retry, where) for a in args),
+                np.broadcast_to(centers, (*retry.shape, 4))[where], ramps=(-1, 0, 1),
+            )  # fmt: skip
+            valid, d, j, vp = valid.copy(), d.copy(), j.copy(), vp.copy()
+            valid[where], d[where], j[where], vp[where] = found
         ok = valid if per_joint else valid.all(axis=-1)
         new = ok & ~done
         mask = new if per_joint else np.broadcast_to(np.asarray(new)[..., np.newaxis], shape)
