@@ -22,16 +22,11 @@ import support
 from support import CLOSED_FORM, COEFFICIENT
 
 # ----------------------------------------------------------------------------- planners
-# name -> (function, number of boundary derivatives matched at each end, keyword names)
-PLANNERS = {
-    "cubic": (tk.cubic, 2, ("v0", "vf")),
-    "quintic": (tk.quintic, 3, ("v0", "a0", "vf", "af")),
-    "septic": (tk.septic, 4, ("v0", "a0", "j0", "vf", "af", "jf")),
-}
+# name -> (function, number of boundary derivatives matched at each end)
+PLANNERS = {"cubic": (tk.cubic, 2), "quintic": (tk.quintic, 3), "septic": (tk.septic, 4)}
 START_NAMES = ("q0", "v0", "a0", "j0")
 END_NAMES = ("qf", "vf", "af", "jf")
 LIMIT_NAMES = ("vmax", "amax", "jmax")
-QUANTITY = {"vmax": "velocity", "amax": "acceleration", "jmax": "jerk"}
 
 
 def _unit_rest_move(derivatives: int) -> np.ndarray:
@@ -93,13 +88,12 @@ def test_independent_unit_moves_are_the_textbook_ones():
     # The septic's acceleration peak 84 sqrt(5)/25 at u = 1/2 - sqrt(5)/10, by hand:
     # s'' = 420 u^2 (1 - u)^2 (1 - 2u), s''' = 840 u (1 - u) (5u^2 - 5u + 1).
     assert UNIT_PEAKS["septic"][1] == pytest.approx(84 * sqrt(5) / 25, rel=1e-12)
+    # Jerk: s'''' = 840 (1 - 2u)(10u^2 - 10u + 1); |s'''| is 52.5 at u = 1/2 (and 42 at
+    # u = 1/2 +- sqrt(15)/10), so the peak is 52.5.
+    assert UNIT_PEAKS["septic"][2] == pytest.approx(52.5, rel=1e-12)
 
 
 # ----------------------------------------------------------------------------- helpers
-def _state(trajectory: tk.Trajectory, t: float, order: int) -> np.ndarray:
-    return trajectory.evaluate(t, order)
-
-
 def _assert_boundary(
     trajectory: tk.Trajectory, start: np.ndarray, end: np.ndarray, duration: float
 ) -> None:
@@ -115,7 +109,7 @@ def _assert_boundary(
     for r in range(n):
         scale = np.maximum(1.0, (magnitudes * powers[r][:, None]).max(axis=0))
         for t, expected in ((0.0, start[r]), (duration, end[r])):
-            actual = _state(trajectory, t, r)
+            actual = trajectory.evaluate(t, r)
             error = np.abs(actual - expected) / scale
             assert np.all(error <= CLOSED_FORM), (
                 f"order {r} at t={t}: {actual} vs {expected} (scaled error {error.max():.3g})"
@@ -126,10 +120,11 @@ def _scalar_or_array(ndof: int, elements: st.SearchStrategy[float]) -> st.Search
     return st.one_of(elements, support.joint_arrays(ndof, elements))
 
 
-# Subnormal numbers (below 2.2e-308) carry fewer significant bits than CLOSED_FORM asks
-# for; they say nothing about trajkit, so the strategies here leave them out.
-positions = st.floats(-10.0, 10.0, allow_subnormal=False)
-velocities = st.one_of(st.just(0.0), st.floats(-10.0, 10.0, allow_subnormal=False))
+# Numbers near the subnormal range (|x| < 2.2e-308, reached by x / T**3 from |x| ~ 1e-302)
+# carry fewer significant bits than CLOSED_FORM asks for; they say nothing about trajkit,
+# so the strategies here draw exact zeros or magnitudes >= 1e-200.
+positions = st.one_of(st.just(0.0), st.floats(1e-200, 10.0), st.floats(-10.0, -1e-200))
+velocities = positions
 
 
 @st.composite
@@ -348,10 +343,15 @@ def moving_boundary_problems(draw: st.DrawFn, derivatives: int):
     if draw(st.booleans()):
         limits["amax"] = draw(support.joint_arrays(ndof, st.floats(0.1, 10.0)))
     assume(np.any(v0) or np.any(vf))
-    # With D = 0 on every joint and only vmax, the velocity shape does not depend on the
-    # duration, so no positive minimum exists (see test_unbounded_minimum_duration_is_refused).
-    # (A distance of 1e-300 is the same degenerate case, hence the 1e-3.)
-    assume(np.any(np.abs(qf - q0) > 1e-3) or "amax" in limits)
+    # Every joint needs time on its own: it moves (|D| > 1e-3; a distance of 1e-300 is
+    # degenerate), or amax meets its non-zero boundary velocity. A joint with D = 0 under
+    # vmax alone keeps the same velocity shape at every duration, so its own minimum is
+    # unbounded (test_unbounded_minimum_duration_is_refused); when another joint bounds
+    # the common duration, trajkit still refuses the move: a bug, pinned by
+    # test_a_joint_that_needs_no_time_does_not_block_the_others.
+    moving = np.abs(qf - q0) > 1e-3
+    braked = ("amax" in limits) & ((v0 != 0) | (vf != 0))
+    assume(np.all(moving | braked))
     return {"q0": q0, "qf": qf, "v0": v0, "vf": vf}, limits
 
 
@@ -377,41 +377,67 @@ def test_minimum_duration_with_boundary_velocities(planner, data):
         _call(planner, kwargs, 0.999 * T, **limits)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: the duration scan misses a narrow feasible window and returns ~599 s "
-    "although T = 1 s (a straight line, zero acceleration) satisfies amax",
-)
 def test_minimum_duration_is_not_beaten_by_a_feasible_shorter_duration():
-    # v0 = vf = D / T at T = 1 s makes the cubic a straight line: acceleration 0 <= amax.
+    # v0 = vf = D / T at T = 1 s makes the cubic a straight line: acceleration 0 <= amax,
+    # but only in a narrow window of durations around 1 s (|a(0)| = 6 |D - v T| / T^2), and
+    # 1.5 v^2 / D = 1.5 > amax in between that window and the slow moves. (Until 8d95155 the
+    # duration scan missed the window and returned 599 s.)
     line = tk.cubic(0.0, 1.0, 1.0, v0=1.0, vf=1.0, amax=0.01)
     assert line.check(tk.Limits(acceleration=0.01)).ok
     fastest = tk.cubic(0.0, 1.0, v0=1.0, vf=1.0, amax=0.01)
     assert fastest.duration <= 1.0
+    # The window's lower end solves 6 (v T - D) = -amax T^2 (a(0) = +amax, T < 1).
+    amax = 0.01
+    lower = (-6.0 + sqrt(36.0 + 24.0 * amax)) / (2.0 * amax)
+    assert fastest.duration == pytest.approx(lower, rel=CLOSED_FORM)
+    assert fastest.check(tk.Limits(acceleration=amax)).ok
+    assert fastest.info["minimum_durations"] == pytest.approx((lower,), rel=CLOSED_FORM)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: with a given duration and every peak ratio 0, info['limiting'] is "
-    "argmax of zeros -> 'vmax', a limit that was not given",
-)
 def test_limiting_names_a_given_limit():
+    # Every peak ratio is 0 (nothing moves); the limit named must still be one that was
+    # given. (Until 8d95155 it was argmax of zeros -> "vmax".)
     tr = tk.cubic(0.0, 0.0, 2.0, amax=1.0)
     assert tr.info["limiting"] == "amax"
+    tr = tk.quintic([0.0, 0.0], [0.0, 1.0], 10.0, jmax=[1.0, 2.0])
+    assert tr.info["limiting"] == "jmax"
+    assert tr.info["limiting_joint"] == 1
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: when the limits do not bound the duration from below, the scan's floor "
-    "leaks out as a 1e-12 s trajectory instead of an InfeasibleError",
-)
 def test_unbounded_minimum_duration_is_refused():
     # q0 == qf and only vmax: the velocity profile v0 * h'(t / T) is the same for every T,
     # so every T > 0 is feasible and there is no shortest one. The infimum 0 cannot be
     # taken either (unlike the standstill at rest): the velocity would jump 0.5 -> 0.
-    # trajkit returns duration 1e-12 s with acceleration ~1e12 rad/s^2 instead.
-    with pytest.raises(tk.InfeasibleError):
+    # (Until 8d95155 this returned a 1e-12 s move with acceleration ~1e12 rad/s^2.)
+    with pytest.raises(tk.InfeasibleError, match="do not bound the duration") as raised:
         tk.cubic(0.0, 0.0, v0=0.5, vmax=1.0)
+    assert "give a duration" in str(raised.value)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="BUG: _minimum_duration searches each joint's own minimum and a joint that "
+    "needs no time (standing still, or D = 0 under vmax only) raises 'the limits do not "
+    "bound the duration from below' although another joint bounds the common duration",
+)
+@pytest.mark.parametrize("still_v0", [0.0, 0.5], ids=["standing-still", "unbounded-alone"])
+def test_a_joint_that_needs_no_time_does_not_block_the_others(still_v0):
+    alone = tk.cubic(0.0, 1.0, v0=0.5, vmax=1.0)  # joint 2 on its own
+    tr = tk.cubic([0.0, 0.0], [0.0, 1.0], v0=[still_v0, 0.5], vmax=1.0)
+    assert tr.duration == pytest.approx(alone.duration, rel=CLOSED_FORM)
+    assert tr.info["limiting_joint"] == 1
+    assert tr.check(tk.Limits(velocity=1.0)).ok
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="BUG (precision): where the limit is touched tangentially the peak exceeds it "
+    "only quadratically in the duration error, so the feasibility slack 1e-12 on the peak "
+    "ratio becomes ~1e-6 on the duration: 1.49999925 s for an exact 1.5 s",
+)
+def test_tangential_minimum_is_exact():
+    # See test_boundary_velocity_at_its_limit_is_allowed for the hand solution T = 1.5 s.
+    assert tk.cubic(0.0, 1.0, v0=1.0, vmax=1.0).duration == pytest.approx(1.5, rel=CLOSED_FORM)
 
 
 # ------------------------------------------------------------------------- infeasibility
@@ -467,8 +493,9 @@ def test_boundary_velocity_at_its_limit_is_allowed():
     # By hand, with k = D / T: v(u) = 1 + (6k - 4) u + (3 - 6k) u^2 stays <= 1 on [0, 1]
     # iff k <= 2/3, so T >= 1.5 s. At T = 1.5 s the velocity leaves u = 0 with zero slope:
     # the limit is touched tangentially, the peak exceeds it only quadratically below
-    # 1.5 s, and a bisection on "peak <= limit" can place T only to ~sqrt(eps) (1e-8).
-    assert tr.duration == pytest.approx(1.5, rel=1e-7)
+    # 1.5 s, so a bisection on "peak <= limit (1 + slack)" can place T only to about
+    # sqrt(slack): test_tangential_minimum_is_exact asks for CLOSED_FORM.
+    assert 1.5 * (1 - 1e-6) <= tr.duration <= 1.5 * (1 + CLOSED_FORM)
     with pytest.raises(tk.InfeasibleError, match="duration"):
         tk.cubic(0.0, 1.0, 1.5 * 0.999, v0=1.0, vmax=1.0)
     assert tr.check(tk.Limits(velocity=1.0)).ok
@@ -752,11 +779,9 @@ def hermite_multisegment(draw: st.DrawFn):
     m = draw(st.integers(1, 4))
     n = draw(st.integers(1, 4))
     start = draw(st.floats(-5.0, 5.0))
-    # Segment lengths 0.25..3 s: see test_well_posed_problem_is_not_called_singular for
-    # lengths that differ more (a bug).
-    steps = [draw(st.floats(0.25, 3.0)) for _ in range(m)]
+    steps = [draw(st.floats(0.01, 100.0)) for _ in range(m)]
     bp = start + np.concatenate([[0.0], np.cumsum(steps)])
-    assume(np.all(np.diff(bp) > 0.2))
+    assume(np.all(np.diff(bp) > 0.009))  # rounding of start + cumsum
     values = draw(
         support.joint_arrays(
             ndof * n * (m + 1),
@@ -776,22 +801,20 @@ def test_random_hermite_problems_are_satisfied(problem):
     ]
     tr = tk.polynomial(conditions, segments=bp)
     assert tr.info["degrees"] == (2 * n - 1,) * m
-    for i in range(m + 1):
+    for piece in range(m):
+        h = bp[piece + 1] - bp[piece]
+        ends = np.maximum(np.abs(values[piece]), np.abs(values[piece + 1]))  # (n, ndof)
         for r in range(n):
-            # Both pieces that meet at breakpoint i satisfy its data (each at its own end).
-            for piece in {max(i - 1, 0), min(i, m - 1)}:
-                x = bp[i] - bp[piece]
-                got = support._piece_derivative(tr.coefficients[:, piece], r, x)
-                support.assert_state(got, values[i, r])
-    support.assert_continuous(tr, n - 1)
+            # As in _assert_boundary: order r adds up the data b_k times h**(k - r).
+            scale = np.maximum(1.0, (ends * h ** (np.arange(n) - r)[:, None]).max(axis=0))
+            # The piece meets the data at both of its ends; so, the pieces that meet at a
+            # breakpoint agree there (continuity up to order n - 1).
+            for side in (0, 1):
+                got = support._piece_derivative(tr.coefficients[:, piece], r, side * h)
+                error = np.abs(got - values[piece + side, r]) / scale
+                assert np.all(error <= CLOSED_FORM), (piece, side, r, got, error.max())
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: _solve_square tests the rank of the unscaled A (smallest/largest singular "
-    "value <= 1e-12), so well-posed problems on short or long segments are rejected as "
-    "singular, even as 'contradicting'",
-)
 @pytest.mark.parametrize(
     ("segments", "derivatives"),
     [
@@ -802,9 +825,15 @@ def test_random_hermite_problems_are_satisfied(problem):
     ],
 )
 def test_well_posed_problem_is_not_called_singular(segments, derivatives):
-    # Hermite data at both ends of every piece always has exactly one solution.
+    # Hermite data at both ends of every piece always has exactly one solution; here every
+    # piece is a rest-to-rest move 0 -> 1. (Until 8d95155 the rank test ran on the unscaled
+    # A and called these singular, even "contradicting".)
     conditions = [
-        [(segments[i + side], r, float(side)) for side in (0, 1) for r in range(derivatives)]
+        [
+            (segments[i + side], r, 1.0 if (side, r) == (1, 0) else 0.0)
+            for side in (0, 1)
+            for r in range(derivatives)
+        ]
         for i in range(len(segments) - 1)
     ]
     tr = tk.polynomial(conditions, segments=segments)
@@ -828,11 +857,13 @@ def test_random_spline_problems_match_cubic_spline(problem):
     conditions[-1].append((bp[-1], 1, v[-1]))
     tr = tk.polynomial(conditions, segments=bp, continuity=[(1, 2)] * (m - 1), degrees=3)
     spline = tk.cubic_spline(bp, q, v0=v[0], vf=v[-1])
-    scale = max(1.0, np.abs(values).max() * 10)
-    t = np.linspace(bp[0], bp[-1], 23)
+    t = np.concatenate([bp, np.linspace(bp[0], bp[-1], 23)])
+    h = np.diff(bp).min()
     for order in range(3):
+        # Order-r values are made of the data over h**r (velocities over h**(r - 1)).
+        scale = max(1.0, np.abs(q).max() / h**order, np.abs(v).max() / h ** max(order - 1, 0))
         err = np.abs(tr.evaluate(t, order) - spline.evaluate(t, order)) / scale
-        assert err.max() <= CLOSED_FORM, order
+        assert err.max() <= CLOSED_FORM, (order, err.max())
 
 
 def test_absolute_coefficients_of_a_line():
