@@ -138,6 +138,10 @@ class BatchTrajectory:
         clamped = np.clip(m[np.newaxis, :], 0.0, self.durations[:, np.newaxis])  # (B, m)
         starts, *states = self._phase_tables()
         begun = starts[:, :, np.newaxis, :] <= clamped[:, np.newaxis, :, np.newaxis]
+        # Like Trajectory: at the very end the last phase holds; the open-ended coast
+        # of a joint that arrived early starts right at its arrival.
+        at_end = (clamped >= self.durations[:, np.newaxis])[:, np.newaxis, :]
+        begun[..., -1] &= (starts[:, :, np.newaxis, -1] < clamped[:, np.newaxis, :]) | ~at_end
         # Zero-length phases start where their successor does; the last begun wins.
         index = begun.sum(axis=-1) - 1  # (B, ndof, m)
         take = lambda x: np.take_along_axis(x, index, axis=-1)  # noqa: E731

@@ -16,9 +16,9 @@ from trajkit.trajectory import Trajectory
 
 __all__ = ["PhasePlan", "merge_breakpoints", "phase_states", "plan_to_trajectory"]
 
-# Phases shorter than this (relative to the whole duration) are rounding residue of
-# the closed forms, not motion; merging them avoids pieces of length ~1e-16 s.
-_MERGE = 1e-12
+# Breakpoints closer than this (relative to the whole duration) are the same switch
+# computed along two roundings; anything longer is a phase and is kept, however short.
+_MERGE = 4e-16
 
 
 class PhasePlan:

@@ -342,7 +342,10 @@ def rest_plan(D, vpos, vneg, apos, aneg):
         np.sqrt(root, out=root)
         root += T
         peak = np.divide(2.0 * d, root, out=np.zeros_like(root), where=root > 0)
-        np.minimum(peak, speed, out=peak)  # rounding at the minimum duration
+        np.minimum(peak, speed, out=peak)
+        # At the minimum duration the root is double and its square root amplifies
+        # rounding to ~1e-8: the fastest peak is known exactly there.
+        np.copyto(peak, vp, where=T <= duration * (1 + 1e-12))
         return RestPhases(D, peak, rise, fall, np.broadcast_to(T, peak.shape))
 
     return duration, phases_at

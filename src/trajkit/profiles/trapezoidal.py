@@ -282,29 +282,39 @@ def _solve_phase_synchronized(*args: FloatArray, duration: FloatArray | None) ->
     return TrapezoidSolution(times, accelerations, peak, T, own, np.full(T.shape, -1))
 
 
-_OFFSETS = np.array([0, 1, -1, 2, -2])  # integer steps tried around a continuous phase time
+# Whole periods tried around each continuous rise and fall time (more above: a
+# rise rounded down needs a longer fall or coast to keep the distance).
+_OFFSETS = np.arange(-3, 9)
 _MAX_EXTRA_PERIODS = 16  # how far past the continuous optimum a quantized duration is sought
 
 
 def _integer_phases(
-    steps: FloatArray, dt: float, args: tuple[FloatArray, ...]
+    steps: FloatArray, dt: float, args: tuple[FloatArray, ...], centers: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Phases whose durations are whole multiples of ``dt`` and sum to ``steps * dt``.
 
-    Around the continuous profile of duration ``steps * dt`` every nearby pair of
-    rise and fall step counts is tried; the coast takes the rest. For given step
-    counts the peak velocity follows from the distance (it is linear in ``vp``),
-    and the accelerations from the velocity changes. Returns ``valid`` (leading
-    shape + joints), ``times``, ``accelerations`` (... , 3) and ``vp``.
+    Around two continuous profiles — the gentlest of duration ``steps * dt`` and
+    the plan being quantized (``centers``: its rise and fall times) — nearby pairs
+    of rise and fall step counts are tried; the coast takes the rest. For given
+    step counts the peak velocity follows from the distance (it is linear in
+    ``vp``), and the accelerations from the velocity changes. Returns ``valid``
+    (leading shape + joints), ``times``, ``accelerations`` (..., 3) and ``vp``.
     """
     D, v0, vf, vpos, vneg, apos, aneg = args
     total = steps * dt
-    smooth = math.fixed_duration(np.broadcast_to(total, D.shape), *args)
-    n1 = np.floor(smooth.t1 / dt + 1e-9)[..., np.newaxis, np.newaxis] + _OFFSETS[:, np.newaxis]
-    n3 = np.floor(smooth.t3 / dt + 1e-9)[..., np.newaxis, np.newaxis] + _OFFSETS[np.newaxis, :]
-    n1, n3 = np.broadcast_arrays(n1, n3)
-    shape = (*D.shape, _OFFSETS.size**2)
-    n1, n3 = n1.reshape(shape), n3.reshape(shape)
+    with np.errstate(all="ignore"):
+        smooth = _exact_duration(np.broadcast_to(total, D.shape), args)
+    pairs = []
+    for rise, fall in (
+        (np.nan_to_num(smooth.t1), np.nan_to_num(smooth.t3)),
+        (centers[..., 0], centers[..., 1]),
+    ):
+        up = np.round(np.broadcast_to(rise, D.shape) / dt)[..., np.newaxis, np.newaxis]
+        down = np.round(np.broadcast_to(fall, D.shape) / dt)[..., np.newaxis, np.newaxis]
+        pair = np.broadcast_arrays(up + _OFFSETS[:, np.newaxis], down + _OFFSETS[np.newaxis, :])
+        pairs.append([x.reshape(*D.shape, -1) for x in pair])
+    n1 = np.concatenate([pair[0] for pair in pairs], axis=-1)
+    n3 = np.concatenate([pair[1] for pair in pairs], axis=-1)
     N = np.broadcast_to(steps, D.shape)[..., np.newaxis]
     n2 = N - n1 - n3
     e = lambda x: x[..., np.newaxis]  # noqa: E731
@@ -316,15 +326,18 @@ def _integer_phases(
         a3 = np.where(n3 > 0, (e(vf) - vp) / (n3 * dt), 0.0)
     covered = dt * ((e(v0) + vp) / 2 * n1 + vp * n2 + (vp + e(vf)) / 2 * n3)
     slack = 1e-12
+    speed = np.maximum(e(vpos), e(vneg))
     scale_d = np.abs(e(D)) + np.abs(covered) + 1e-300
     valid = (
         (n1 >= 0) & (n3 >= 0) & (n2 >= 0)
         & np.isfinite(vp)
         & (np.abs(covered - e(D)) <= 1e-9 * scale_d)
+        # With no rise (fall) the peak must already be the start (end) velocity.
+        & ((n1 > 0) | (np.abs(vp - e(v0)) <= 1e-12 * speed))
+        & ((n3 > 0) | (np.abs(vp - e(vf)) <= 1e-12 * speed))
         & (vp <= e(vpos) * (1 + slack)) & (vp >= -e(vneg) * (1 + slack))
         & (a1 <= e(apos) * (1 + slack)) & (a1 >= -e(aneg) * (1 + slack))
         & (a3 <= e(apos) * (1 + slack)) & (a3 >= -e(aneg) * (1 + slack))
-        & e(smooth.valid)
     )  # fmt: skip
     choice = np.argmin(np.where(valid, np.abs(vp), np.inf), axis=-1)[..., np.newaxis]
     pick = lambda x: np.take_along_axis(x, choice, axis=-1)[..., 0]  # noqa: E731
@@ -346,8 +359,11 @@ def quantize_trapezoid(
     """
     if sync == "phase":
         law_args = tuple(a[..., np.newaxis] for a in _phase_law(*args))
+        law_times, law_acc = _stack(math.minimum_time(*law_args))
         law = quantize_trapezoid(
-            TrapezoidSolution(*(None,) * 4, own=solution.duration[..., np.newaxis], limiting=None),
+            TrapezoidSolution(
+                law_times, law_acc, None, None, np.asarray(solution.duration)[..., np.newaxis], None
+            ),
             dt,
             law_args,
             sync=None,
@@ -359,6 +375,7 @@ def quantize_trapezoid(
             times, accelerations, peak, law.duration, solution.own, solution.limiting
         )
     per_joint = sync is None
+    centers = solution.times[..., [0, 2]]
     target = solution.own if per_joint else solution.duration
     steps = np.ceil(target / dt - 1e-9)
     shape = args[0].shape
@@ -367,7 +384,8 @@ def quantize_trapezoid(
     peak = np.zeros(shape)
     done = np.zeros(steps.shape, bool)
     for _ in range(_MAX_EXTRA_PERIODS):
-        valid, t, a, vp = _integer_phases(steps if per_joint else steps[..., np.newaxis], dt, args)
+        trial = steps if per_joint else steps[..., np.newaxis]
+        valid, t, a, vp = _integer_phases(trial, dt, args, centers)
         ok = valid if per_joint else valid.all(axis=-1)
         new = ok & ~done
         mask = new if per_joint else np.broadcast_to(new[..., np.newaxis], shape)
@@ -529,10 +547,16 @@ def trapezoidal(
         fastest = solve_trapezoid(*args, sync=sync if sync == "phase" else "time")
         if requested < fastest.duration * (1 - 1e-12):
             joint = int(fastest.limiting) if fastest.limiting >= 0 else int(np.argmax(fastest.own))
+            # Name the bounds of the joint's direction of motion (the lower ones going down).
+            speed = vpos[joint] if end[joint] >= start[joint] else -vneg[joint]
+            brake = (
+                f"{apos[joint]:.6g}"
+                if apos[joint] == aneg[joint]
+                else (f"({-aneg[joint]:.6g}, {apos[joint]:.6g})")
+            )
             raise InfeasibleError(
                 f"duration {requested:.6g} s is below the minimum {float(fastest.duration):.6g} s "
-                f"set by vmax={vpos[joint]:.6g} rad/s and amax={apos[joint]:.6g} rad/s^2 "
-                f"(joint {joint + 1})"
+                f"set by vmax={speed:.6g} rad/s and amax={brake} rad/s^2 (joint {joint + 1})"
             )
         requested = max(requested, float(fastest.duration))
     solution = solve_trapezoid(
@@ -543,6 +567,14 @@ def trapezoidal(
     if step is not None:
         solution = quantize_trapezoid(solution, step, args, sync if duration is None else "time")
     trajectory = _to_trajectory(start, start_v, solution, sync, step)
+    if requested is not None and float(solution.duration) > float(requested) * (1 + 1e-12):
+        blocked = ~_exact_duration(np.asarray(requested)[..., np.newaxis], args).valid
+        joint = int(np.flatnonzero(blocked)[0]) if blocked.any() else 0
+        raise InfeasibleError(
+            f"duration {float(requested):.6g} s cannot be met exactly: joint {joint + 1} cannot "
+            f"take it with its boundary velocities; the next duration that works is "
+            f"{float(solution.duration):.6g} s"
+        )
     if not allow_overshoot:
         _refuse_overshoot(trajectory, start, end, start_v, end_v)
     return trajectory
@@ -575,10 +607,33 @@ def _to_trajectory(
     return plan_to_trajectory(plan, float(solution.duration), info)
 
 
+class _Range:
+    def __init__(self, minimum: FloatArray, maximum: FloatArray) -> None:
+        self.minimum, self.maximum = minimum, maximum
+
+
+def _truncated(trajectory: Trajectory, end: float) -> Trajectory:
+    """The same motion on ``[start, end]`` only (``end`` inside the trajectory)."""
+    bp = trajectory.breakpoints
+    keep = int(np.searchsorted(bp, end, side="left"))  # pieces that start before end
+    breakpoints = np.append(bp[:keep], end)
+    return Trajectory(breakpoints, trajectory.coefficients[:, :keep])
+
+
 def _refuse_overshoot(
     trajectory: Trajectory, start: FloatArray, end: FloatArray, v0: FloatArray, vf: FloatArray
 ) -> None:
-    position = trajectory.extrema(0)
+    # Each joint up to its own arrival: with sync=None an early joint coasts on at vf.
+    arrival = np.array([sum(times) for times in trajectory.info["phase_times"]])
+    minimum, maximum = np.empty(start.size), np.empty(start.size)
+    for j in range(start.size):  # a few joints; each an exact extremum search
+        if arrival[j] >= trajectory.duration or arrival[j] <= 0:
+            found = trajectory.extrema(0)
+            minimum[j], maximum[j] = found.minimum[j], found.maximum[j]
+        else:
+            own = _truncated(trajectory, arrival[j]).extrema(0)
+            minimum[j], maximum[j] = own.minimum[j], own.maximum[j]
+    position = _Range(minimum, maximum)
     low, high = np.minimum(start, end), np.maximum(start, end)
     scale = 1e-9 * np.maximum(1.0, np.abs(high - low))
     outside = (position.minimum < low - scale) | (position.maximum > high + scale)
