@@ -494,6 +494,12 @@ def scurve(
             )
         requested = np.array(max(requested, float(fastest.duration)))
     solution = solve_scurve(*args, sync=mode, duration=requested)
+    if requested is not None and float(solution.duration) > float(requested) * (1 + 1e-12):
+        raise InfeasibleError(
+            f"duration {float(requested):.6g} s cannot be met exactly: some joint cannot take "
+            f"it with its boundary velocities; the next duration that works is "
+            f"{float(solution.duration):.6g} s"
+        )
     if step is not None:
         solution = quantize_scurve(solution, step, args, mode)
     plan = PhasePlan(start, start_v, solution.durations, solution.accelerations, solution.jerks)
