@@ -419,12 +419,6 @@ def test_unbounded_minimum_duration_is_refused():
     assert "give a duration" in str(raised.value)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: _minimum_duration searches each joint's own minimum and a joint that "
-    "needs no time (standing still, or D = 0 under vmax only) raises 'the limits do not "
-    "bound the duration from below' although another joint bounds the common duration",
-)
 @pytest.mark.parametrize("still_v0", [0.0, 0.5], ids=["standing-still", "unbounded-alone"])
 def test_a_joint_that_needs_no_time_does_not_block_the_others(still_v0):
     alone = tk.cubic(0.0, 1.0, v0=0.5, vmax=1.0)  # joint 2 on its own
@@ -434,13 +428,6 @@ def test_a_joint_that_needs_no_time_does_not_block_the_others(still_v0):
     assert tr.check(tk.Limits(velocity=1.0)).ok
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: hermite_pieces combines absolute positions, so at the search's tiny trial "
-    "durations (1e-12 x the minimum) v0*T is below the rounding of q0 = qf = 1: the move "
-    "looks like a standstill, every floor duration passes and the search reports the "
-    "duration as unbounded",
-)
 @pytest.mark.parametrize("planner", ["cubic", "quintic"])
 @pytest.mark.parametrize("where", [1.0, -3.0, 10.0])
 def test_minimum_duration_does_not_depend_on_where_the_joint_is(planner, where):
@@ -453,12 +440,6 @@ def test_minimum_duration_does_not_depend_on_where_the_joint_is(planner, where):
     assert elsewhere.duration == pytest.approx(at_zero.duration, rel=CLOSED_FORM)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG (precision): where the limit is touched tangentially the peak exceeds it "
-    "only quadratically in the duration error, so the feasibility slack 1e-12 on the peak "
-    "ratio becomes ~1e-6 on the duration: 1.49999925 s for an exact 1.5 s",
-)
 def test_tangential_minimum_is_exact():
     # See test_boundary_velocity_at_its_limit_is_allowed for the hand solution T = 1.5 s.
     assert tk.cubic(0.0, 1.0, v0=1.0, vmax=1.0).duration == pytest.approx(1.5, rel=CLOSED_FORM)

@@ -94,10 +94,18 @@ def hermite_pieces(start: FloatArray, end: FloatArray, durations: FloatArray) ->
         Local power-basis coefficients (highest power first) of degree ``2n - 1``.
     """
     n = start.shape[0]
+    # Solve for the displacement and add the start position back last: with absolute
+    # positions, a small move far from zero would drown in their rounding.
+    origin = start[0]
+    start, end = start.copy(), end.copy()
+    start[0] = 0.0
+    end[0] = end[0] - origin
     scale = durations ** np.arange(n).reshape((-1,) + (1,) * (start.ndim - 1))
     boundary = np.concatenate([start * scale, end * scale], axis=0)
     unit = np.tensordot(_hermite_inverse(n), boundary, axes=(1, 0))  # p(u), u in [0, 1]
-    return _poly.scale_argument(unit, 1.0 / durations)
+    c = _poly.scale_argument(unit, 1.0 / durations)
+    c[-1] = c[-1] + origin
+    return c
 
 
 def _peak_ratios(
@@ -150,11 +158,17 @@ def _minimum_duration(
     own = np.array(
         [
             _search_minimum(
-                start[:, [j]], end[:, [j]], [None if x is None else x[[j]] for x in limits]
+                start[:, [j]], end[:, [j]], [None if x is None else x[[j]] for x in limits],
+                unbounded_is_zero=True,
             )
             for j in range(start.shape[1])
         ]
-    )
+    )  # fmt: skip
+    if not np.any(own > 0):
+        raise InfeasibleError(
+            "the limits do not bound the duration from below (the move stays within "
+            "them however fast it is); give a duration"
+        )
     common = _search_minimum(start, end, limits, lower=float(own.max()))
     ratios = _peak_ratios(start, end, np.array([common]), limits)[0]
     binding, joint = np.unravel_index(int(np.argmax(ratios)), ratios.shape)
@@ -179,12 +193,14 @@ def _unit_rest_peaks(derivatives: int) -> tuple[float, ...]:
 def _endpoint_crossings(
     start: FloatArray, end: FloatArray, limits: list[FloatArray | None]
 ) -> FloatArray:
-    """Durations at which a derivative at either end of the move equals +-its limit.
+    """Durations at which a limited derivative at either end of the move is critical.
 
     At ``u = t / T`` fixed, the ``r``-th time derivative is ``sum_i k_i T**(i - r)``
     (boundary value ``i`` enters scaled by ``T**i``), so "value = +-L" is a
     polynomial equation in ``T``. Feasible windows bounded by an end value start
-    and stop exactly at these roots.
+    and stop exactly at these roots. So do the windows where an interior peak just
+    reaches an end (the limit touched tangentially there): the next derivative is
+    zero at that end, again a polynomial equation in ``T``.
     """
     n, ndof = start.shape
     inverse = _hermite_inverse(n)  # coefficients (highest first) per boundary value
@@ -194,23 +210,30 @@ def _endpoint_crossings(
     for index, limit in enumerate(limits):
         if limit is None:
             continue
-        r = index + 1
-        falling = np.array([factorial(p) // factorial(p - r) if p >= r else 0 for p in powers])
-        for u in (0.0, 1.0):
-            basis = np.array([falling[k] * u ** max(powers[k] - r, 0) for k in range(degree + 1)])
-            weight = basis @ inverse  # d^r p / du^r at u per boundary value
-            for j in range(ndof):
-                values = np.concatenate([start[:, j], end[:, j]])
-                k = np.zeros(n)
-                for i in range(2 * n):
-                    k[i % n] += weight[i] * values[i]  # coefficient of T**(i % n)
-                for sign in (1.0, -1.0):
-                    poly = np.zeros(max(n, r + 1))
-                    poly[:n] += k
-                    poly[r] -= sign * limit[j]
-                    roots = np.roots(poly[::-1]) if np.any(poly) else np.empty(0)
-                    real = roots[np.abs(roots.imag) <= 1e-9 * np.abs(roots)].real
-                    found.append(real[real > 0])
+        # (order, level per joint): the value at the limit; its slope at zero.
+        for r, levels in ((index + 1, (limit, -limit)), (index + 2, (np.zeros(ndof),))):
+            if r > degree:
+                continue
+            falling = np.array([factorial(p) // factorial(p - r) if p >= r else 0 for p in powers])
+            for u in (0.0, 1.0):
+                basis = np.array(
+                    [falling[k] * u ** max(powers[k] - r, 0) for k in range(degree + 1)]
+                )
+                weight = basis @ inverse  # d^r p / du^r at u per boundary value
+                for j in range(ndof):
+                    values = np.concatenate([start[:, j], end[:, j]])
+                    values[n] -= values[0]  # the displacement, not absolute positions
+                    values[0] = 0.0
+                    k = np.zeros(n)
+                    for i in range(2 * n):
+                        k[i % n] += weight[i] * values[i]  # coefficient of T**(i % n)
+                    for level in levels:
+                        poly = np.zeros(max(n, r + 1))
+                        poly[:n] += k
+                        poly[r] -= level[j]
+                        roots = np.roots(poly[::-1]) if np.any(poly) else np.empty(0)
+                        real = roots[np.abs(roots.imag) <= 1e-9 * np.abs(roots)].real
+                        found.append(real[real > 0])
     return np.concatenate(found)
 
 
@@ -218,7 +241,11 @@ _SCAN_DECADES = 12  # the scan covers [high * 1e-12, high]
 
 
 def _search_minimum(
-    start: FloatArray, end: FloatArray, limits: list[FloatArray | None], lower: float = 0.0
+    start: FloatArray,
+    end: FloatArray,
+    limits: list[FloatArray | None],
+    lower: float = 0.0,
+    unbounded_is_zero: bool = False,
 ) -> float:
     """Smallest feasible duration >= ``lower`` when the ends are not at rest.
 
@@ -233,12 +260,15 @@ def _search_minimum(
     ------
     InfeasibleError
         No duration works, or every duration down to the scan's floor works (the
-        limits do not bound the duration from below).
+        limits do not bound the duration from below; with ``unbounded_is_zero`` the
+        answer is then 0).
     """
 
     def feasible(durations: FloatArray) -> FloatArray:
         ratios = _peak_ratios(start, end, durations, limits)
-        return ratios.reshape(durations.size, -1).max(axis=1) <= 1.0 + 1e-12
+        # No slack: where a limit is touched tangentially, a slack of e would move
+        # the minimum by sqrt(e).
+        return ratios.reshape(durations.size, -1).max(axis=1) <= 1.0
 
     high = max(lower, 1e-6)
     for _ in range(200):
@@ -251,12 +281,9 @@ def _search_minimum(
             "and accelerations against the limits"
         )
     floor = lower if lower > 0 else high * 10.0**-_SCAN_DECADES
+    exact = _endpoint_crossings(start, end, limits)
     candidates = np.concatenate(
-        [
-            np.geomspace(floor, high, 400 * _SCAN_DECADES // 2),
-            _endpoint_crossings(start, end, limits),
-            [floor, high],
-        ]
+        [np.geomspace(floor, high, 400 * _SCAN_DECADES // 2), exact, [floor, high]]
     )
     candidates = np.unique(candidates[(candidates >= floor) & (candidates <= high)])
     ok = feasible(candidates)
@@ -264,6 +291,8 @@ def _search_minimum(
     if first == 0:
         if lower > 0:
             return float(candidates[0])
+        if unbounded_is_zero:
+            return 0.0  # this joint alone would take no time; others set the duration
         raise InfeasibleError(
             "the limits do not bound the duration from below (the move stays within "
             "them however fast it is); give a duration"
@@ -277,6 +306,14 @@ def _search_minimum(
             a = middle
         if b - a <= 1e-13 * b:
             break
+    # Where the limit is touched tangentially the ratio exceeds 1 only quadratically,
+    # so bisection stops up to ~1e-8 early; an exact critical duration nearby is the
+    # true minimum.
+    near = exact[(np.abs(exact - b) <= 1e-6 * b) & (exact >= lower)]
+    if near.size:
+        snapped = near[feasible(near)]
+        if snapped.size:
+            return float(snapped.min())
     return float(b)
 
 
