@@ -172,11 +172,6 @@ def already_there(problem: dict) -> bool:
     )
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: sync='time' treats T = 0 as blocked when q0 == qf and v0 == vf != 0 and "
-    "plans a detour (fixed_duration has no 'no phases' candidate); ruckig and sync=None say 0",
-)
 @pytest.mark.parametrize(("v", "a"), [(0.1, 0.1), (0.03457013, 0.09659326)])
 def test_already_at_the_target_state_takes_no_time(v, a):
     problem = {

@@ -545,12 +545,6 @@ def test_boundary_velocity_closed_forms(case, sync):
         assert_close(tr.position(times)[:, 0], expected, 1.0 + abs(D), CLOSED_FORM, "q(t)")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: sync='time' with moving boundaries re-solves the limiting joint at T = its "
-    "own minimum (fixed_duration: c2 vp^2 + c1 vp + c0 = 0 with a zero discriminant up to "
-    "rounding); sqrt turns 1e-16 into a 4e-8 s spurious coast and phases off by ~1e-8",
-)
 def test_time_sync_of_a_single_joint_keeps_the_optimal_phases():
     # sync="time" with one joint must be the time-optimal profile itself.
     D, v0, vf, V, A, _, phases, peak = BOUNDARY_CASES["must overshoot"]
@@ -559,11 +553,6 @@ def test_time_sync_of_a_single_joint_keeps_the_optimal_phases():
     assert tr.info["peak_velocity"][0] == pytest.approx(peak, rel=CLOSED_FORM)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: sync='time' treats T = 0 as blocked when q0 == qf and v0 == vf != 0 and "
-    "plans a detour of 4 v / a (fixed_duration has no 'no phases' candidate)",
-)
 def test_already_in_the_target_state_takes_no_time():
     # Start state == target state: nothing to do (sync=None agrees, so does ruckig).
     alone = tk.trapezoidal(0.0, 0.0, 1.0, 0.1, v0=0.1, vf=0.1, sync=None)
@@ -992,13 +981,6 @@ def test_dt_negligible_moves(sync):
     support.assert_state(tr.position(2.0), [0.0, 1.0])
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=RuntimeWarning,
-    reason="BUG: _integer_phases computes `covered` outside its np.errstate block from "
-    "candidate peaks that are inf/NaN (n1/2 + n2 + n3/2 = 0 for impossible splits): "
-    "numpy's 'invalid value encountered in add' reaches the user for an ordinary request",
-)
 def test_dt_planning_emits_no_runtime_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)

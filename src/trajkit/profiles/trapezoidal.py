@@ -116,13 +116,26 @@ def _exact_duration(T: FloatArray, args: tuple[FloatArray, ...]) -> math.Phases:
     speed); gentler accelerations are used elsewhere.
     """
     phases = math.fixed_duration(T, *args)
-    if phases.valid.all():
-        return phases
-    general = math.fixed_duration_general(T, *args)
-    take = ~phases.valid & general.valid
-    return math.Phases(
-        *(np.where(take, getattr(general, n), getattr(phases, n)) for n in _PHASE_FIELDS)
-    )
+    if not phases.valid.all():
+        general = math.fixed_duration_general(T, *args)
+        take = ~phases.valid & general.valid
+        phases = math.Phases(
+            *(np.where(take, getattr(general, n), getattr(phases, n)) for n in _PHASE_FIELDS)
+        )
+    # At a joint's own minimum the closed forms meet a double root (sqrt of rounding,
+    # ~1e-8): the time-optimal phases are exact there.
+    fastest = math.minimum_time(*args)
+    at_minimum = fastest.valid & (np.abs(T - fastest.duration) <= 1e-12 * np.maximum(T, 1e-300))
+    if np.any(at_minimum):
+        shape = np.broadcast_shapes(phases.valid.shape, at_minimum.shape)
+        phases = math.Phases(
+            *(
+                np.where(at_minimum, np.broadcast_to(getattr(fastest, n), shape),
+                         np.broadcast_to(getattr(phases, n), shape))
+                for n in _PHASE_FIELDS
+            )
+        )  # fmt: skip
+    return phases
 
 
 _PHASE_FIELDS = ("t1", "t2", "t3", "a1", "a3", "vp", "valid")
@@ -324,7 +337,8 @@ def _integer_phases(
         vp = np.where(n1 == 0, e(v0), np.where(n3 == 0, e(vf), vp))
         a1 = np.where(n1 > 0, (vp - e(v0)) / (n1 * dt), 0.0)
         a3 = np.where(n3 > 0, (e(vf) - vp) / (n3 * dt), 0.0)
-    covered = dt * ((e(v0) + vp) / 2 * n1 + vp * n2 + (vp + e(vf)) / 2 * n3)
+    with np.errstate(invalid="ignore", over="ignore"):
+        covered = dt * ((e(v0) + vp) / 2 * n1 + vp * n2 + (vp + e(vf)) / 2 * n3)
     slack = 1e-12
     speed = np.maximum(e(vpos), e(vneg))
     scale_d = np.abs(e(D)) + np.abs(covered) + 1e-300
