@@ -257,6 +257,27 @@ def _problems(q0: ArrayLike, qf: ArrayLike, v0: ArrayLike, vf: ArrayLike) -> tup
     return np.broadcast_to(start, shape), np.broadcast_to(end, shape), start_v, end_v
 
 
+def _refuse_fast_boundaries(
+    start_v: FloatArray,
+    end_v: FloatArray,
+    vpos: FloatArray,
+    vneg: FloatArray,
+    shape: tuple[int, int],
+    label: str,
+) -> None:
+    """Refuse a boundary velocity beyond its limit, naming the problem and joint."""
+    for name, values in (("v0", start_v), ("vf", end_v)):
+        if not values.any():
+            continue  # at rest: within any limit (cheap test first: the common case)
+        beyond = np.broadcast_to((values > vpos) | (values < -vneg), shape)
+        if beyond.any():
+            b, j = np.argwhere(beyond)[0]
+            value = np.broadcast_to(values, shape)[b, j]
+            raise InfeasibleError(
+                f"{name}={value:.6g} rad/s is beyond {label} (problem {b}, joint {j + 1})"
+            )
+
+
 def _args(start, end, start_v, end_v, vpos, vneg, apos, aneg):
     shape = start.shape
     return (
@@ -324,17 +345,7 @@ def trapezoidal(
     vpos, vneg = _limit_pair("vmax", vmax, shape, "rad/s")
     apos, aneg = _limit_pair("amax", amax, shape, "rad/s^2")
     sync = _read_sync(sync)
-    for name, values in (("v0", start_v), ("vf", end_v)):
-        if not values.any():
-            continue  # at rest: within any limit (cheap test first: the common case)
-        beyond = np.broadcast_to((values > vpos) | (values < -vneg), shape)
-        if beyond.any():
-            b, j = np.argwhere(beyond)[0]
-            value = np.broadcast_to(values, shape)[b, j]
-            raise InfeasibleError(
-                f"{name}={value:.6g} rad/s is beyond the velocity limit "
-                f"(problem {b}, joint {j + 1})"
-            )
+    _refuse_fast_boundaries(start_v, end_v, vpos, vneg, shape, "the velocity limit")
     if sync != "phase" and not start_v.any() and not end_v.any():
         solution = _rest_to_rest(start, end, vpos, vneg, apos, aneg, sync)
     else:
@@ -410,15 +421,7 @@ def scurve(
         limits.append(upper)
     V, A, J = limits
     sync = _read_sync(sync)
-    for name, values in (("v0", start_v), ("vf", end_v)):
-        if values.any():
-            beyond = np.broadcast_to(np.abs(values) > V, shape)
-            if beyond.any():
-                b, j = np.argwhere(beyond)[0]
-                raise InfeasibleError(
-                    f"{name}={np.broadcast_to(values, shape)[b, j]:.6g} rad/s is beyond vmax "
-                    f"(problem {b}, joint {j + 1})"
-                )
+    _refuse_fast_boundaries(start_v, end_v, V, V, shape, "vmax")
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
     args = (end - start, np.broadcast_to(start_v, shape), np.broadcast_to(end_v, shape), V, A, J)
     if sync != "phase" and step is None and not start_v.any() and not end_v.any():

@@ -14,7 +14,7 @@ import numpy as np
 from trajkit._validation import FloatArray
 from trajkit.trajectory import Trajectory
 
-__all__ = ["PhasePlan", "merge_breakpoints", "phase_states", "plan_to_trajectory"]
+__all__ = ["PhasePlan", "merge_breakpoints", "phase_states", "plan_info", "plan_to_trajectory"]
 
 # Breakpoints closer than this (relative to the whole duration) are the same switch
 # computed along two roundings; anything longer is a phase and is kept, however short.
@@ -87,6 +87,30 @@ def merge_breakpoints(times: FloatArray, duration: float) -> FloatArray:
     if points.size < 2:
         points = np.array([0.0, duration])
     return points
+
+
+def plan_info(
+    planner: str,
+    sync: object,
+    dt: float | None,
+    duration: FloatArray,
+    own: FloatArray,
+    limiting: FloatArray,
+    phase_times: FloatArray,
+    peak_velocity: FloatArray,
+) -> dict[str, object]:
+    """The ``info`` fields every limit-driven planner reports, as plain Python numbers."""
+    joint = int(limiting)
+    return {
+        "planner": planner,
+        "sync": sync,
+        "dt": dt,
+        "duration": float(duration),
+        "minimum_durations": tuple(float(x) for x in own),
+        "limiting_joint": None if joint < 0 else joint,
+        "phase_times": tuple(tuple(float(x) for x in row) for row in phase_times),
+        "peak_velocity": tuple(float(x) for x in peak_velocity),
+    }
 
 
 def plan_to_trajectory(plan: PhasePlan, duration: float, info: dict[str, object]) -> Trajectory:

@@ -64,6 +64,17 @@ def _accelerations(apos, aneg):
     return a1, a3
 
 
+def _quadratic_terms(D, v0, vf, a1, a3):
+    """``c2`` and ``c0`` of the module docstring, per sign pattern (last axis)."""
+    c2 = 1.0 / (2 * a1) - 1.0 / (2 * a3)
+    c0 = (
+        D[..., np.newaxis]
+        + v0[..., np.newaxis] ** 2 / (2 * a1)
+        - vf[..., np.newaxis] ** 2 / (2 * a3)
+    )
+    return c2, c0
+
+
 def _phases(D, v0, vf, vp, a1, a3, vpos, vneg, extra_valid) -> Phases:
     """Phase times of candidate peak velocities ``vp`` (last axis = candidates)."""
     D, v0, vf = D[..., np.newaxis], v0[..., np.newaxis], vf[..., np.newaxis]
@@ -98,12 +109,7 @@ def minimum_time(D, v0, vf, vpos, vneg, apos, aneg) -> Phases:
     solving ``c2 vp^2 = c0`` for the rise-fall and fall-rise patterns.
     """
     a1, a3 = _accelerations(apos, aneg)
-    c2 = 1.0 / (2 * a1) - 1.0 / (2 * a3)
-    c0 = (
-        D[..., np.newaxis]
-        + v0[..., np.newaxis] ** 2 / (2 * a1)
-        - vf[..., np.newaxis] ** 2 / (2 * a3)
-    )
+    c2, c0 = _quadratic_terms(D, v0, vf, a1, a3)
     with np.errstate(divide="ignore", invalid="ignore"):
         root = np.sqrt(np.where(c2 != 0, c0 / c2, np.nan))
     # Rise-fall and fall-rise (columns 0, 1), each with both roots, plus the two coasts.
@@ -135,12 +141,7 @@ def duration_candidates(D, v0, vf, vpos, vneg, apos, aneg) -> FloatArray:
     reachable one is among these.)
     """
     a1, a3 = _accelerations(apos, aneg)
-    c2 = 1.0 / (2 * a1) - 1.0 / (2 * a3)
-    c0 = (
-        D[..., np.newaxis]
-        + v0[..., np.newaxis] ** 2 / (2 * a1)
-        - vf[..., np.newaxis] ** 2 / (2 * a3)
-    )
+    c2, c0 = _quadratic_terms(D, v0, vf, a1, a3)
     with np.errstate(divide="ignore", invalid="ignore"):
         root = np.sqrt(np.where((c2 != 0) & (c0 / c2 > 0), c0 / c2, np.nan))
     shared = np.stack([v0, vf, vpos, -vneg], axis=-1)  # (..., 4)

@@ -22,9 +22,15 @@ from trajkit._validation import (
 )
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.profiles import _scurve_math as smath
-from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
+from trajkit.profiles._phases import PhasePlan, plan_info, plan_to_trajectory
 from trajkit.profiles._sync import common_duration
-from trajkit.profiles.trapezoidal import Sync, _law_distance, _phase_law, _read_sync
+from trajkit.profiles.trapezoidal import (
+    Sync,
+    _check_boundary_velocities,
+    _law_distance,
+    _phase_law,
+    _read_sync,
+)
 from trajkit.trajectory import Trajectory
 
 __all__ = ["SCurveSolution", "quantize_scurve", "scurve", "solve_scurve"]
@@ -472,12 +478,7 @@ def scurve(
     sync = _read_sync(sync)
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
     for name, values in (("v0", start_v), ("vf", end_v)):
-        bad = np.flatnonzero(np.abs(values) > V)
-        if bad.size:
-            j = bad[0]
-            raise InfeasibleError(
-                f"{name}={values[j]:.6g} rad/s is beyond vmax={V[j]:.6g} rad/s (joint {j + 1})"
-            )
+        _check_boundary_velocities(name, values, V, V, label="vmax=", magnitude=True)
     args = (end - start, start_v, end_v, V, A, J)
     requested = None
     mode = sync
@@ -503,17 +504,12 @@ def scurve(
     if step is not None:
         solution = quantize_scurve(solution, step, args, mode)
     plan = PhasePlan(start, start_v, solution.durations, solution.accelerations, solution.jerks)
-    limiting = int(solution.limiting)
-    info: dict[str, object] = {
-        "planner": "scurve",
-        "sync": sync,
-        "dt": step,
-        "duration": float(solution.duration),
-        "minimum_durations": tuple(float(x) for x in solution.own),
-        "limiting_joint": None if limiting < 0 else limiting,
-        "phase_times": tuple(tuple(float(x) for x in row) for row in solution.durations),
+    info = plan_info(
+        "scurve", sync, step, solution.duration, solution.own, solution.limiting,
+        solution.durations, solution.peak_velocity,
+    )  # fmt: skip
+    info |= {
         "jerks": tuple(tuple(float(x) for x in row) for row in solution.jerks),
-        "peak_velocity": tuple(float(x) for x in solution.peak_velocity),
         "peak_acceleration": tuple(
             tuple(float(x) for x in row) for row in solution.peak_acceleration
         ),

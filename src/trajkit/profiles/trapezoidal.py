@@ -22,7 +22,7 @@ from trajkit._validation import (
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import LimitSpec, parse_bounds
 from trajkit.profiles import _trapezoid_math as math
-from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
+from trajkit.profiles._phases import PhasePlan, plan_info, plan_to_trajectory
 from trajkit.profiles._sync import common_duration
 from trajkit.trajectory import Trajectory
 
@@ -438,15 +438,24 @@ def _read_sync(sync: object) -> Sync:
 
 
 def _check_boundary_velocities(
-    name: str, values: FloatArray, vpos: FloatArray, vneg: FloatArray
+    name: str,
+    values: FloatArray,
+    vpos: FloatArray,
+    vneg: FloatArray,
+    label: str = "the velocity limit ",
+    magnitude: bool = False,
 ) -> None:
+    """Refuse a boundary velocity beyond its limit, naming the joint and the bound.
+
+    The bound is the signed one it passes, or its ``magnitude`` for symmetric limits
+    named as ``vmax``.
+    """
     bad = np.flatnonzero((values > vpos) | (values < -vneg))
     if bad.size:
         j = bad[0]
-        bound = vpos[j] if values[j] > 0 else -vneg[j]
+        bound = vpos[j] if values[j] > 0 or magnitude else -vneg[j]
         raise InfeasibleError(
-            f"{name}={values[j]:.6g} rad/s is beyond the velocity limit {bound:.6g} rad/s "
-            f"(joint {j + 1})"
+            f"{name}={values[j]:.6g} rad/s is beyond {label}{bound:.6g} rad/s (joint {j + 1})"
         )
 
 
@@ -605,25 +614,15 @@ def _to_trajectory(
     plan = PhasePlan(
         start, start_v, solution.times, solution.accelerations, np.zeros_like(solution.times)
     )
-    limiting = int(solution.limiting)
-    info: dict[str, object] = {
-        "planner": "trapezoidal",
-        "sync": sync,
-        "dt": dt,
-        "duration": float(solution.duration),
-        "minimum_durations": tuple(float(x) for x in solution.own),
-        "limiting_joint": None if limiting < 0 else limiting,
-        "phase_times": tuple(tuple(float(x) for x in row) for row in solution.times),
-        "peak_velocity": tuple(float(x) for x in solution.peak_velocity),
+    info = plan_info(
+        "trapezoidal", sync, dt, solution.duration, solution.own, solution.limiting,
+        solution.times, solution.peak_velocity,
+    )  # fmt: skip
+    info |= {
         "accelerations": tuple((float(row[0]), float(row[2])) for row in solution.accelerations),
         **(extra or {}),
     }
     return plan_to_trajectory(plan, float(solution.duration), info)
-
-
-class _Range:
-    def __init__(self, minimum: FloatArray, maximum: FloatArray) -> None:
-        self.minimum, self.maximum = minimum, maximum
 
 
 def _truncated(trajectory: Trajectory, end: float) -> Trajectory:
@@ -647,15 +646,12 @@ def _refuse_overshoot(
         else:
             own = _truncated(trajectory, arrival[j]).extrema(0)
             minimum[j], maximum[j] = own.minimum[j], own.maximum[j]
-    position = _Range(minimum, maximum)
     low, high = np.minimum(start, end), np.maximum(start, end)
     scale = 1e-9 * np.maximum(1.0, np.abs(high - low))
-    outside = (position.minimum < low - scale) | (position.maximum > high + scale)
+    outside = (minimum < low - scale) | (maximum > high + scale)
     if outside.any():
         j = int(np.flatnonzero(outside)[0])
-        beyond = (
-            position.maximum[j] if position.maximum[j] > high[j] + scale[j] else position.minimum[j]
-        )
+        beyond = maximum[j] if maximum[j] > high[j] + scale[j] else minimum[j]
         raise InfeasibleError(
             f"joint {j + 1} cannot reach qf={end[j]:.6g} rad from v0={v0[j]:.6g} rad/s to "
             f"vf={vf[j]:.6g} rad/s without overshoot (the fastest profile reaches "
