@@ -1,0 +1,25 @@
+"""Robot arms: serial chains (DH tables, URDF), forward and inverse kinematics, Jacobians.
+
+Examples
+--------
+>>> from trajkit.kinematics import Planar2R
+>>> arm = Planar2R(1.0, 1.0)
+>>> arm.fk([0.0, 0.0])[:3, 3].round(12).tolist()
+[2.0, 0.0, 0.0]
+"""
+
+from trajkit.kinematics.chain import DHRow, Joint, SerialChain
+from trajkit.kinematics.ik import IKSolution
+from trajkit.kinematics.robots import UR5, AnalyticChain, Planar2R, RRBot, Spatial3R
+
+__all__ = [
+    "UR5",
+    "AnalyticChain",
+    "DHRow",
+    "IKSolution",
+    "Joint",
+    "Planar2R",
+    "RRBot",
+    "SerialChain",
+    "Spatial3R",
+]

@@ -1,0 +1,221 @@
+"""Inverse kinematics: the solution type and a batched Levenberg–Marquardt solver.
+
+The numerical solver works on any :class:`~trajkit.kinematics.SerialChain` and on
+many targets at once: each iteration is one batched Jacobian and one batched
+``ndof × ndof`` solve for every target still unsolved. Damping follows
+Sugihara (2011): ``λ = E + w`` with ``E`` the weighted squared error, which keeps
+steps short far from a solution and lets Newton's method take over close to it.
+Joint ranges are respected by projecting every step onto them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from trajkit._validation import finite_array, positive_scalar
+from trajkit.errors import InvalidInputError, UnreachableError
+from trajkit.rotations import as_rotation_matrices, rotation_error
+
+if TYPE_CHECKING:
+    from trajkit.kinematics.chain import SerialChain
+
+FloatArray = NDArray[np.float64]
+
+__all__ = ["IKSolution", "solve_numerical"]
+
+#: Damping added to Sugihara's error term, relative to the chain's scale squared: it
+#: bounds the step at a singularity and vanishes in effect as the error goes to 0.
+_DAMPING_FLOOR = 1e-9
+
+
+@dataclass(frozen=True)
+class IKSolution:
+    """Result of an inverse-kinematics call.
+
+    Attributes
+    ----------
+    q : ndarray, shape (ndof,) or (m, ndof)
+        Joint positions (rad or m).
+    success : bool or ndarray of bool, shape (m,)
+        Whether each target was reached within the tolerance.
+    position_error : float or ndarray, shape (m,)
+        Distance from the tool to the target position (m).
+    orientation_error : float or ndarray, shape (m,)
+        Angle between tool and target orientations (rad); 0 when position only.
+    iterations : int
+        Iterations used (the largest over the batch; 0 for closed forms).
+    method : str
+        ``"analytic"`` or ``"numerical"``.
+    """
+
+    q: FloatArray
+    success: NDArray[np.bool_] | bool
+    position_error: FloatArray | float
+    orientation_error: FloatArray | float
+    iterations: int = 0
+    method: str = "numerical"
+
+    @property
+    def residual(self) -> FloatArray | float:
+        """Position error (m) plus orientation error (rad), as one number per target."""
+        return self.position_error + self.orientation_error
+
+
+def parse_targets(
+    target: ArrayLike, position_only: bool, *, planar: bool = False
+) -> tuple[FloatArray, FloatArray | None, bool]:
+    """Read IK targets as positions ``(m, 3)``, rotations ``(m, 3, 3)`` or None, and single-ness."""
+    array = finite_array("target", target)
+    if array.shape[-2:] == (4, 4):
+        single = array.ndim == 2
+        poses = array.reshape(-1, 4, 4)
+        rotations = as_rotation_matrices("target rotation", poses[:, :3, :3])
+        return poses[:, :3, 3].copy(), (None if position_only else rotations), single
+    if (array.ndim in (1, 2) and array.shape[-1] == 3) or (planar and array.shape[-1] == 2):
+        if not position_only and not planar:
+            raise InvalidInputError(
+                "target is a position: pass position_only=True, or give 4x4 poses"
+            )
+        single = array.ndim == 1
+        points = array.reshape(-1, array.shape[-1])
+        if points.shape[1] == 2:
+            points = np.concatenate([points, np.zeros((points.shape[0], 1))], axis=1)
+        return points, None, single
+    raise InvalidInputError(
+        f"target must be a 4x4 pose, a 3-vector position, or a stack of them, got shape "
+        f"{array.shape}"
+    )
+
+
+def _errors(
+    chain: SerialChain, q: FloatArray, points: FloatArray, rotations: FloatArray | None
+) -> tuple[FloatArray, FloatArray]:
+    """Stacked error vectors (m, 3 or 6) and Jacobians (m, 3 or 6, ndof)."""
+    tool, jacobian = chain.fk_and_jacobian(q) if q.shape[0] else (None, None)
+    assert tool is not None and jacobian is not None
+    position_error = points - tool[:, :3, 3]
+    if rotations is None:
+        return position_error, jacobian[:, :3]
+    angle_error = rotation_error(rotations, tool[:, :3, :3])
+    return np.concatenate([position_error, angle_error], axis=1), jacobian
+
+
+def _wrap_toward(q: FloatArray, reference: FloatArray, revolute: NDArray[np.bool_]) -> FloatArray:
+    """Move unbounded revolute joints by whole turns to lie within π of ``reference``."""
+    turns = np.round((q - reference) / (2 * np.pi))
+    return np.where(revolute, q - 2 * np.pi * turns, q)
+
+
+def solve_numerical(
+    chain: SerialChain,
+    target: ArrayLike,
+    q_seed: ArrayLike | None = None,
+    *,
+    position_only: bool = False,
+    tolerance: float = 1e-10,
+    max_iterations: int = 50,
+    restarts: int = 30,
+    raise_on_failure: bool = True,
+) -> IKSolution:
+    """Batched damped-least-squares IK; see :meth:`SerialChain.ik` for the parameters."""
+    tolerance = positive_scalar("tolerance", tolerance)
+    if int(max_iterations) < 1 or int(restarts) < 0:
+        raise InvalidInputError(
+            f"max_iterations must be >= 1 and restarts >= 0, got {max_iterations}, {restarts}"
+        )
+    points, rotations, single = parse_targets(target, position_only)
+    m, n = points.shape[0], chain.ndof
+    lower, upper = chain.lower, chain.upper
+    bounded = np.isfinite(lower) & np.isfinite(upper)
+    middle = np.where(bounded, 0.5 * (lower + upper), 0.0)
+    if q_seed is None:
+        q = np.broadcast_to(middle, (m, n)).copy()
+    else:
+        seeds, _ = chain.configurations(q_seed, "q_seed")
+        if seeds.shape[0] not in (1, m):
+            raise InvalidInputError(f"q_seed gives {seeds.shape[0]} seeds for {m} targets")
+        q = np.clip(np.broadcast_to(seeds, (m, n)), lower, upper)
+    seed_copy = q.copy()
+    scale = max(chain.reach(), 1e-9) if np.isfinite(chain.reach()) else 1.0
+    position_tolerance = tolerance * max(scale, 1.0)
+    weights = np.ones(3 if rotations is None else 6)
+    if rotations is not None:
+        weights[3:] = scale**2  # an error of 1 rad counts like one chain length
+    rng = np.random.default_rng(0)
+
+    def converged(error: FloatArray) -> NDArray[np.bool_]:
+        ok = np.linalg.norm(error[:, :3], axis=1) <= position_tolerance
+        if error.shape[1] == 6:
+            ok &= np.linalg.norm(error[:, 3:], axis=1) <= tolerance
+        return ok
+
+    best_q = q.copy()
+    best_cost = np.full(m, np.inf)
+    done = np.zeros(m, dtype=bool)
+    used = 0
+    for attempt in range(int(restarts) + 1):
+        todo = np.flatnonzero(~done)
+        if todo.size == 0:
+            break
+        if attempt:
+            span = np.where(bounded, upper - lower, 2 * np.pi)
+            low = np.where(bounded, lower, -np.pi)
+            q[todo] = low + rng.random((todo.size, n)) * span
+        active = todo
+        for iteration in range(int(max_iterations)):
+            used = max(used, iteration + 1)
+            qa = q[active]
+            target_points = points[active]
+            target_rot = None if rotations is None else rotations[active]
+            error, jacobian = _errors(chain, qa, target_points, target_rot)
+            cost = 0.5 * np.einsum("mk,k,mk->m", error, weights, error)
+            improved = cost < best_cost[active]
+            best_cost[active[improved]] = cost[improved]
+            best_q[active[improved]] = qa[improved]
+            finished = converged(error)
+            done[active[finished]] = True
+            keep = ~finished
+            if not keep.any():
+                break
+            active, qa, error, jacobian, cost = (
+                active[keep],
+                qa[keep],
+                error[keep],
+                jacobian[keep],
+                cost[keep],
+            )
+            weighted = jacobian * weights[np.newaxis, :, np.newaxis]
+            normal = np.swapaxes(jacobian, 1, 2) @ weighted
+            damping = cost + _DAMPING_FLOOR * scale**2
+            normal += damping[:, np.newaxis, np.newaxis] * np.eye(n)
+            gradient = np.einsum("mkj,mk->mj", weighted, error)
+            step = np.linalg.solve(normal, gradient[..., np.newaxis])[..., 0]
+            q[active] = np.clip(qa + step, lower, upper)
+    q_final = np.where(done[:, np.newaxis], q, best_q)
+    q_final = _wrap_toward(q_final, seed_copy, chain.revolute & ~bounded)
+    error, _ = _errors(chain, q_final, points, rotations)
+    position_error = np.linalg.norm(error[:, :3], axis=1)
+    orientation_error = np.linalg.norm(error[:, 3:], axis=1) if error.shape[1] == 6 else np.zeros(m)
+    success = converged(error)
+    if raise_on_failure and not success.all():
+        worst = int(np.flatnonzero(~success)[0])
+        where = "" if single else f" (target {worst}, {int((~success).sum())} of {m} failed)"
+        raise UnreachableError(
+            f"IK did not reach the target{where}: the closest tool pose found is "
+            f"{position_error[worst]:.6g} m and {orientation_error[worst]:.6g} rad away "
+            f"after {restarts + 1} attempts; the target is out of reach or outside the "
+            "joint ranges"
+        )
+    if single:
+        return IKSolution(
+            q_final[0],
+            bool(success[0]),
+            float(position_error[0]),
+            float(orientation_error[0]),
+            used,
+        )
+    return IKSolution(q_final, success, position_error, orientation_error, used)
