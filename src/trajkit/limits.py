@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -45,6 +45,23 @@ class Bounds:
         return out[0], out[1]
 
 
+def _bound_side(name: str, value: Any, unbounded: float, open_allowed: bool) -> FloatArray:
+    """One side of a range; a position range may be open (``-inf`` below, ``inf`` above)."""
+    if not open_allowed:
+        return finite_array(name, value)
+    array = np.array(value, dtype=np.float64) if _numeric(value) else finite_array(name, value)
+    finite_array(name, np.where(array == unbounded, 0.0, array))
+    return array
+
+
+def _numeric(value: Any) -> bool:
+    try:
+        np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
 def parse_bounds(name: str, spec: LimitSpec, *, quantity: str | None = None) -> Bounds | None:
     """Read one limit: a magnitude (symmetric), or a tuple ``(lower, upper)``.
 
@@ -61,8 +78,8 @@ def parse_bounds(name: str, spec: LimitSpec, *, quantity: str | None = None) -> 
                 f"{name} given as a tuple must be (lower, upper), got {len(spec)} items; "
                 "pass a list or array for per-joint symmetric limits"
             )
-        lower = finite_array(f"{name} lower bound", spec[0])
-        upper = finite_array(f"{name} upper bound", spec[1])
+        lower = _bound_side(f"{name} lower bound", spec[0], -np.inf, quantity == "position")
+        upper = _bound_side(f"{name} upper bound", spec[1], np.inf, quantity == "position")
         for side, value in (("lower", lower), ("upper", upper)):
             if value.ndim > 1:
                 raise InvalidInputError(
@@ -105,7 +122,8 @@ class Limits:
     Parameters
     ----------
     position : tuple (lower, upper), optional
-        Joint range; each side a number or one number per joint.
+        Joint range; each side a number or one number per joint. A joint without
+        a range (a continuous joint) has ``-inf`` and ``inf``.
     velocity, acceleration, jerk : number, sequence or tuple, optional
         A number or a list/array (one per joint) means the symmetric bound
         ``-v <= q' <= v``; a ``tuple`` ``(lower, upper)`` gives asymmetric bounds,
@@ -241,7 +259,8 @@ def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Repo
         found = trajectory.extrema(order)
         peaks[quantity] = (found.minimum, found.maximum)
         checked[quantity] = (lower, upper)
-        slack = tolerance * np.maximum(np.abs(lower), np.abs(upper))
+        finite = np.where(np.isfinite(lower), np.abs(lower), 0.0)
+        slack = tolerance * np.maximum(finite, np.where(np.isfinite(upper), np.abs(upper), 0.0))
         for j in range(trajectory.ndof):
             if found.minimum[j] < lower[j] - slack[j]:
                 violations.append(
