@@ -58,7 +58,7 @@ class Path(ABC):
 
     @abstractmethod
     def evaluate(self, u: ArrayLike, order: int = 0) -> FloatArray:
-        """Point (order 0) or derivative ``d^k p / du^k`` (order 1, 2) at each ``u``, shape (m, 3)."""
+        """Point (order 0) or derivative ``d^k p / du^k`` (order 1, 2) at each ``u``: (m, 3)."""
 
     @property
     @abstractmethod
@@ -130,7 +130,7 @@ class _Conic(Path):
         self._phase, self._span, self._k = phase, span, harmonic
         self._sine_first = sine_first
 
-    def evaluate(self, u: ArrayLike, order: int = 0) -> FloatArray:  # noqa: D102
+    def evaluate(self, u: ArrayLike, order: int = 0) -> FloatArray:
         u = self._parameters(u, order)
         phi = self._phase + self._span * u
         w = self._span
@@ -147,18 +147,18 @@ class _Conic(Path):
         return out + self._center if order == 0 else out
 
     @property
-    def speed_bound(self) -> float:  # noqa: D102
+    def speed_bound(self) -> float:
         w = abs(self._span)
         return float(np.hypot(self._a * w, self._b * self._k * w))
 
     @property
-    def curvature_bound(self) -> float:  # noqa: D102
+    def curvature_bound(self) -> float:
         w = abs(self._span)
         return float(np.hypot(self._a * w**2, self._b * (self._k * w) ** 2))
 
 
 class Arc(_Conic):
-    """Circular arc: from ``start``, about the axis through ``center`` along ``normal``, by ``angle``.
+    """Circular arc from ``start``, turning by ``angle`` about an axis through ``center``.
 
     Parameters
     ----------
