@@ -11,6 +11,7 @@ import io
 import os
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -22,7 +23,11 @@ from trajkit.limits import Limits
 from trajkit.samples import Samples
 from trajkit.trajectory import Trajectory
 
-__all__ = ["profiles", "save"]
+if TYPE_CHECKING:
+    from trajkit.kinematics.chain import SerialChain
+    from trajkit.taskspace.motion import TaskTrajectory
+
+__all__ = ["arm", "profiles", "save", "task_space"]
 
 _QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 _FIELDS = ("q", "qd", "qdd", "qddd")
@@ -130,6 +135,119 @@ def _draw_bounds(ax, lower: np.ndarray, upper: np.ndarray, colors: list[str]) ->
         else:
             for j, value in enumerate(side):
                 ax.axhline(value, color=colors[j], linestyle="--", linewidth=1.0, alpha=0.7)
+
+
+_VIEWS = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
+
+
+def arm(
+    robot: SerialChain,
+    trajectory: Trajectory,
+    *,
+    instants: int = 5,
+    view: str = "3d",
+    title: str | None = None,
+    size: float = 6.0,
+) -> Figure:
+    """The arm drawn at a few instants, lighter to darker in time, with the tool path.
+
+    Parameters
+    ----------
+    robot : SerialChain
+    trajectory : Trajectory
+        Joint trajectory of ``robot``.
+    instants : int
+        How many poses to draw, evenly spaced from start to end (>= 1).
+    view : {"3d", "xy", "xz", "yz"}
+        A 3-D view, or the projection onto two world axes.
+    title : str, optional
+    size : float
+        Figure width and height (inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from trajkit.kinematics.drawing import link_positions
+
+    if view not in ("3d", *_VIEWS):
+        raise InvalidInputError(f"view must be '3d', 'xy', 'xz' or 'yz', got {view!r}")
+    if not isinstance(instants, int) or instants < 1:
+        raise InvalidInputError(f"instants must be an integer >= 1, got {instants!r}")
+    times = np.linspace(trajectory.start_time, trajectory.end_time, instants)
+    poses = link_positions(robot, trajectory, times)
+    path = link_positions(
+        robot, trajectory, np.linspace(trajectory.start_time, trajectory.end_time, 400)
+    )[:, -1]
+    figure = Figure(figsize=(size, size), layout="constrained")
+    shades = np.linspace(0.35, 1.0, instants)
+    if view == "3d":
+        ax = figure.add_subplot(projection="3d")
+        ax.plot(*path.T, color="tab:red", lw=1.5, label="tool path")
+        for pose, shade in zip(poses, shades, strict=True):
+            ax.plot(*pose.T, "-o", color=(0.1, 0.3, 0.6, shade), lw=3, ms=4)
+        ax.set_zlabel("z")
+        every = np.concatenate([poses.reshape(-1, 3), path])
+        span = (every.max(axis=0) - every.min(axis=0)).max() / 2 or 1.0
+        middle = (every.max(axis=0) + every.min(axis=0)) / 2
+        ax.set_xlim(middle[0] - span, middle[0] + span)
+        ax.set_ylim(middle[1] - span, middle[1] + span)
+        ax.set_zlim(middle[2] - span, middle[2] + span)
+        labels = ("x", "y")
+    else:
+        a, b = _VIEWS[view]
+        ax = figure.add_subplot()
+        ax.plot(path[:, a], path[:, b], color="tab:red", lw=1.5, label="tool path")
+        for pose, shade in zip(poses, shades, strict=True):
+            ax.plot(pose[:, a], pose[:, b], "-o", color=(0.1, 0.3, 0.6, shade), lw=3, ms=4)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(True, alpha=0.3)
+        labels = (view[0], view[1])
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    ax.legend(loc="best")
+    ax.set_title(title or f"{robot.name}: {instants} poses, t = {times[0]:g}..{times[-1]:g} s")
+    return figure
+
+
+def task_space(task: TaskTrajectory, *, title: str | None = None, width: float = 8.0) -> Figure:
+    """Tool position, velocity and acceleration components against time.
+
+    Parameters
+    ----------
+    task : TaskTrajectory
+    title : str, optional
+    width : float
+        Figure width (inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three panels (x, y, z components and the magnitude of velocity and
+        acceleration), plus angular velocity when the task has orientation.
+    """
+    times = np.union1d(np.linspace(0.0, task.duration, _CURVE_POINTS), task.breakpoints)
+    state = task.evaluate(times)
+    panels = [
+        ("position", state.position, ""),
+        ("velocity", state.velocity, "/s"),
+        ("acceleration", state.acceleration, "/s²"),
+    ]
+    if state.angular_velocity is not None:
+        panels.append(("angular velocity", state.angular_velocity, " rad/s"))
+    figure = Figure(figsize=(width, 2.2 * len(panels)), layout="constrained")
+    axes = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, (name, values, unit) in zip(axes, panels, strict=True):
+        for k, axis_name in enumerate("xyz"):
+            ax.plot(times, values[:, k], label=axis_name)
+        if name != "position":
+            ax.plot(times, np.linalg.norm(values, axis=1), "k--", lw=1, label="magnitude")
+        ax.set_ylabel(f"{name}{unit}" if unit.startswith(" ") else f"{name} [{unit or 'len'}]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper right", fontsize="small", ncol=4)
+    axes[-1].set_xlabel("time [s]")
+    axes[0].set_title(title or f"task space, {task.duration:.6g} s")
+    return figure
 
 
 def save(figure: Figure, path: str | os.PathLike[str], *, dpi: int = 120) -> Path:

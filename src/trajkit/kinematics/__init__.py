@@ -9,6 +9,7 @@ Examples
 """
 
 from trajkit.kinematics.chain import DHRow, Joint, SerialChain
+from trajkit.kinematics.drawing import link_positions
 from trajkit.kinematics.ik import IKSolution
 from trajkit.kinematics.robots import UR5, AnalyticChain, Planar2R, RRBot, Spatial3R
 
@@ -22,4 +23,5 @@ __all__ = [
     "RRBot",
     "SerialChain",
     "Spatial3R",
+    "link_positions",
 ]
