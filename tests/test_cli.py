@@ -139,7 +139,10 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     names = sorted(p.name for p in out_dir.iterdir())
     expected = {
         "seed000_cubic.csv", "seed000_cubic.png",
-        "seed003_line.csv", "seed003_line.png",
+        "seed003_arm_task.png", "seed003_arm_joints.png", "seed003_arm_arm.png",
+        "seed003_arm_joints.csv",
+        "seed002_arm_task.png", "seed002_arm_joints.png", "seed002_arm_arm.png",
+        "seed002_arm_joints.csv",
         "seed004_example1.csv", "seed004_example1.png",
         "seed004_example2.csv", "seed004_example2.png",
         "summary.txt",
@@ -165,6 +168,8 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     assert "scurve, sync=time, dt 2 ms: duration 14.858 s, limits OK" in out
     assert "drive sqrt(34) m: minimum duration 32.3941772 s" in out
     assert "the hand value 32 s breaks the limit" in out
+    assert "seed 003 3-DOF arm, cubic line" in out and "OK" in out
+    assert "seed 002 two-link arm" in out
     seed000 = tk.Samples.from_csv(out_dir / "seed000_cubic.csv")
     assert seed000.t[-1] == pytest.approx(11.1666666666666667, rel=1e-12)
 

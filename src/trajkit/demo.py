@@ -13,6 +13,8 @@ import numpy as np
 
 import trajkit as tk
 from trajkit.io.atomic import StagedFiles, staged_files
+from trajkit.kinematics import Planar2R, SerialChain, Spatial3R
+from trajkit.taskspace import Ellipse, JointSpacePlan, Line, TaskTrajectory, timed, to_joint_space
 
 __all__ = ["EXAMPLES", "run"]
 
@@ -87,21 +89,63 @@ def seed000_two_joint_cubic(out: Path, stage: StagedFiles, log: Log) -> None:
     trajectory.sample(0.002).to_csv(stage.path(out / "seed000_cubic.csv"))
 
 
-def seed003_task_space_line(out: Path, stage: StagedFiles, log: Log) -> None:
-    """Seed 003: cubic straight line from P_A to P_B in 10 s (the seed's cm, as metres)."""
-    p_a = np.array([0.0, -12.0, 20.0]) / 100.0
-    p_b = np.array([10.0, 12.0, 20.0]) / 100.0
-    trajectory = tk.cubic(p_a, p_b, 10.0)
-    speed = np.linalg.norm(trajectory.velocity(5.0))
-    log(
-        f"seed 003 task-space line: {np.linalg.norm(p_b - p_a):.6g} m in 10 s, "
-        f"peak speed {speed:.6g} m/s at t = 5 s"
-    )
+def _arm_outputs(
+    out: Path,
+    stage: StagedFiles,
+    stem: str,
+    robot: SerialChain,
+    motion: TaskTrajectory,
+    plan: JointSpacePlan,
+    title: str,
+    view: str,
+) -> None:
+    """Plots of the task-space motion, the joint trajectory and the arm; joint samples CSV."""
+    figure = tk.plot.task_space(motion, title=f"{title}: task space")
+    tk.plot.save(figure, stage.path(out / f"{stem}_task.png"))
     figure = tk.plot.profiles(
-        trajectory, unit="m", names=["x", "y", "z"], title="Seed 003: cubic line P_A -> P_B"
+        plan.trajectory, robot.limits(), names=robot.names, title=f"{title}: joint space"
     )
-    tk.plot.save(figure, stage.path(out / "seed003_line.png"))
-    trajectory.sample(0.01, unit="m").to_csv(stage.path(out / "seed003_line.csv"))
+    tk.plot.save(figure, stage.path(out / f"{stem}_joints.png"))
+    tk.plot.save(tk.plot.arm(robot, plan.trajectory, instants=6, view=view, title=title),
+                 stage.path(out / f"{stem}_arm.png"))  # fmt: skip
+    plan.trajectory.sample(0.01).to_csv(stage.path(out / f"{stem}_joints.csv"))
+
+
+def seed003_task_space_line(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 003: the 3-DOF arm's tool on a cubic-timed line from P_A to P_B in 10 s (cm)."""
+    robot = Spatial3R(5.0, 10.0, 8.0, 12.0)
+    motion = timed(Line([0.0, -12.0, 20.0], [10.0, 12.0, 20.0]), "cubic", duration=10.0)
+    plan = to_joint_space(robot, motion, dt=0.01)
+    check_times = np.linspace(0.0, 10.0, 10001)
+    tool = robot.fk(plan.trajectory.position(check_times))[:, :3, 3]
+    deviation = float(np.abs(tool - motion.evaluate(check_times).position).max())
+    peak = np.degrees(plan.trajectory.extrema(1).peak)
+    log(
+        f"seed 003 3-DOF arm, cubic line (0, -12, 20) -> (10, 12, 20) cm in 10 s: "
+        f"FK of the joint trajectory within {deviation:.2g} cm of the line"
+    )
+    log(
+        f"  q(0) = {np.degrees(plan.q[0]).round(4).tolist()} deg, "
+        f"q(10) = {np.degrees(plan.q[-1]).round(4).tolist()} deg, "
+        f"peak rates {peak.round(4).tolist()} deg/s; {'OK' if plan.ok else plan.problems()}"
+    )
+    _arm_outputs(out, stage, "seed003_arm", robot, motion, plan, "Seed 003: 3-DOF arm", "3d")
+
+
+def seed002_two_link_tracking(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 002: a 2-link arm tracks x = 0.9 cos(2πt/T) sqrt((L1+L2)² - h²), y = h."""
+    l1, l2, period = 1.0, 0.8, 5.0
+    h = 2.0 / 3.0 * (l1 + l2)
+    robot = Planar2R(l1, l2)
+    path = Ellipse([0.0, h, 0.0], 0.9 * np.sqrt((l1 + l2) ** 2 - h**2), 0.0)
+    motion = timed(path, "linear", duration=period)
+    plan = to_joint_space(robot, motion, dt=0.01, branch="elbow_positive")
+    log(
+        f"seed 002 two-link arm (L1 = {l1:g} m, L2 = {l2:g} m, T = {period:g} s): "
+        f"FK within {plan.path_error:.2g} m of the path between samples; "
+        f"peak joint rates {plan.trajectory.extrema(1).peak.round(4).tolist()} rad/s"
+    )
+    _arm_outputs(out, stage, "seed002_arm", robot, motion, plan, "Seed 002: 2-link arm", "xy")
 
 
 def seed001_six_joint_synchronization(out: Path, stage: StagedFiles, log: Log) -> None:
@@ -176,6 +220,7 @@ EXAMPLES: tuple[Callable[[Path, StagedFiles, Log], None], ...] = (
     seed004_via_point_polynomials,
     seed000_two_joint_cubic,
     seed003_task_space_line,
+    seed002_two_link_tracking,
     seed001_six_joint_synchronization,
     seed000_wheeled_lspb,
 )
