@@ -98,3 +98,56 @@ def test_save_bad_suffix(move, tmp_path):
 def test_limit_with_wrong_joint_count(move):
     with pytest.raises(tk.InvalidInputError, match="velocity"):
         tk.plot.profiles(move, tk.Limits(velocity=[1.0, 2.0, 3.0]))
+
+
+def arm_move():
+    from trajkit.kinematics import Spatial3R
+    from trajkit.taskspace import Line, timed, to_joint_space
+
+    robot = Spatial3R()
+    motion = timed(Line([0, -12, 20], [10, 12, 20]), "cubic", duration=10.0)
+    return robot, motion, to_joint_space(robot, motion, dt=0.1)
+
+
+@pytest.mark.parametrize("view", ["3d", "xy", "xz", "yz"])
+def test_arm_draws_each_instant_and_the_tool_path(view):
+    robot, _, plan = arm_move()
+    figure = tk.plot.arm(robot, plan.trajectory, instants=4, view=view, title="seed 003")
+    (ax,) = figure.get_axes()
+    lines = ax.get_lines()
+    assert len(lines) == 1 + 4  # the tool path, then one polyline per instant
+    assert lines[0].get_label() == "tool path"
+    assert ax.get_title() == "seed 003"
+    # The last drawn pose ends at the tool's final position.
+    end = robot.fk(plan.trajectory.position(plan.trajectory.end_time))[:3, 3]
+    if view == "3d":
+        xs, ys, zs = lines[-1].get_data_3d()
+        np.testing.assert_allclose([xs[-1], ys[-1], zs[-1]], end, atol=1e-9)
+    else:
+        a, b = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[view]
+        xs, ys = lines[-1].get_data()
+        np.testing.assert_allclose([xs[-1], ys[-1]], end[[a, b]], atol=1e-9)
+
+
+def test_task_space_panels():
+    _, motion, _ = arm_move()
+    figure = tk.plot.task_space(motion)
+    axes = figure.get_axes()
+    assert [ax.get_ylabel().split(" ")[0] for ax in axes] == [
+        "position",
+        "velocity",
+        "acceleration",
+    ]
+    # Velocity panel: x, y, z and the magnitude, whose peak is the cubic's 1.5 L / T.
+    magnitude = axes[1].get_lines()[-1].get_ydata()
+    assert magnitude.max() == pytest.approx(1.5 * np.hypot(10, 24) / 10, rel=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [({"view": "top"}, "view must be"), ({"instants": 0}, "instants must be an integer >= 1")],
+)
+def test_arm_bad_input(kwargs, message):
+    robot, _, plan = arm_move()
+    with pytest.raises(tk.InvalidInputError, match=message):
+        tk.plot.arm(robot, plan.trajectory, **kwargs)

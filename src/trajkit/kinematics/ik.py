@@ -66,7 +66,7 @@ class IKSolution:
 
 
 def parse_targets(
-    target: ArrayLike, position_only: bool, *, planar: bool = False
+    target: ArrayLike, position_only: bool
 ) -> tuple[FloatArray, FloatArray | None, bool]:
     """Read IK targets as positions ``(m, 3)``, rotations ``(m, 3, 3)`` or None, and single-ness."""
     array = finite_array("target", target)
@@ -75,16 +75,12 @@ def parse_targets(
         poses = array.reshape(-1, 4, 4)
         rotations = as_rotation_matrices("target rotation", poses[:, :3, :3])
         return poses[:, :3, 3].copy(), (None if position_only else rotations), single
-    if (array.ndim in (1, 2) and array.shape[-1] == 3) or (planar and array.shape[-1] == 2):
-        if not position_only and not planar:
+    if array.ndim in (1, 2) and array.shape[-1] == 3:
+        if not position_only:
             raise InvalidInputError(
                 "target is a position: pass position_only=True, or give 4x4 poses"
             )
-        single = array.ndim == 1
-        points = array.reshape(-1, array.shape[-1])
-        if points.shape[1] == 2:
-            points = np.concatenate([points, np.zeros((points.shape[0], 1))], axis=1)
-        return points, None, single
+        return array.reshape(-1, 3).copy(), None, array.ndim == 1
     raise InvalidInputError(
         f"target must be a 4x4 pose, a 3-vector position, or a stack of them, got shape "
         f"{array.shape}"

@@ -70,7 +70,6 @@ class AnalyticChain(SerialChain):
         branch: int | str | None = None,
         position_only: bool = True,
         raise_on_failure: bool = True,
-        **numerical: Any,
     ) -> IKSolution:
         """Closed-form inverse kinematics for tool positions.
 
@@ -90,14 +89,11 @@ class AnalyticChain(SerialChain):
             Raise :class:`~trajkit.UnreachableError` for a target outside the
             workspace or the joint ranges (default); otherwise return NaN there
             with ``success`` False.
-        **numerical
-            Not used; accepted so callers can pass solver options uniformly.
 
         Returns
         -------
         IKSolution
         """
-        del numerical
         if not position_only:
             raise InvalidInputError(
                 f"{type(self).__name__} sets only its tool position; call ik with "
