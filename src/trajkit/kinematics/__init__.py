@@ -12,6 +12,7 @@ from trajkit.kinematics.chain import DHRow, Joint, SerialChain
 from trajkit.kinematics.drawing import link_positions
 from trajkit.kinematics.ik import IKSolution
 from trajkit.kinematics.robots import UR5, AnalyticChain, Planar2R, RRBot, Spatial3R
+from trajkit.kinematics.urdf import from_urdf
 
 __all__ = [
     "UR5",
@@ -23,5 +24,6 @@ __all__ = [
     "RRBot",
     "SerialChain",
     "Spatial3R",
+    "from_urdf",
     "link_positions",
 ]
