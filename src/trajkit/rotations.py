@@ -59,9 +59,28 @@ def rotation_error(target: FloatArray, actual: FloatArray) -> FloatArray:
     ``log(target @ actual.T)`` for stacks of 3x3 matrices of shape ``(..., 3, 3)``;
     its norm is the angle between the two orientations.
     """
-    relative = target @ np.swapaxes(actual, -1, -2)
-    flat = relative.reshape(-1, 3, 3)
-    return Rotation.from_matrix(flat).as_rotvec().reshape((*relative.shape[:-2], 3))
+    relative = (target @ np.swapaxes(actual, -1, -2)).reshape(-1, 3, 3)
+    # log map: the skew part gives sin(angle) * axis, the trace cos(angle).
+    skew = 0.5 * np.stack(
+        [
+            relative[:, 2, 1] - relative[:, 1, 2],
+            relative[:, 0, 2] - relative[:, 2, 0],
+            relative[:, 1, 0] - relative[:, 0, 1],
+        ],
+        axis=1,
+    )
+    sine = np.linalg.norm(skew, axis=1)
+    cosine = np.clip(0.5 * (np.trace(relative, axis1=1, axis2=2) - 1.0), -1.0, 1.0)
+    angle = np.arctan2(sine, cosine)
+    small = sine < 1e-12
+    ratio = np.where(small, 1.0, angle / np.where(small, 1.0, sine))
+    out = skew * ratio[:, np.newaxis]
+    # Near a half turn the skew part vanishes and loses the axis: scipy's
+    # quaternion route is exact there.
+    flipped = cosine < -0.9
+    if flipped.any():
+        out[flipped] = Rotation.from_matrix(relative[flipped]).as_rotvec()
+    return out.reshape((*np.shape(target)[:-2], 3))
 
 
 def slerp_axis(start: FloatArray, end: FloatArray) -> tuple[FloatArray, float]:
