@@ -329,30 +329,38 @@ class SerialChain:
             f"{self.ndof}-joint chain, got shape {array.shape}"
         )
 
-    def _pass(self, q: FloatArray) -> _ChainPass:
-        """One batched pass from base to tool for configurations ``q`` (m, ndof)."""
+    def _pass(self, q: FloatArray, *, keep_rotations: bool = False) -> _ChainPass:
+        """One batched pass from base to tool for configurations ``q`` (m, ndof).
+
+        Joint rotations are stored only when asked for (drawing needs them; FK,
+        Jacobians and IK do not).
+        """
         m, n = q.shape[0], self.ndof
-        value = (q + self._offsets).T
+        value = np.ascontiguousarray((q + self._offsets).T)
+        sines, versines = np.sin(value), 1.0 - np.cos(value)
         rotation = np.broadcast_to(self._base[:3, :3, np.newaxis], (3, 3, m))
         position = np.broadcast_to(self._base[:3, 3, np.newaxis], (3, m))
-        rotations = np.empty((n, 3, 3, m))
+        rotations = np.empty((n, 3, 3, m)) if keep_rotations else None
         positions = np.empty((n, 3, m))
         axes = np.empty((n, 3, m))
         for j in range(n):
-            fixed, k_term, k2_term, offset, axis = self._local[j]
-            positions[j] = position + _apply(rotation, offset)
-            axes[j] = _apply(rotation, axis)
+            fixed, k_term, k2_term, offset_and_axis = self._local[j]
+            # Joint origin and axis in the world frame, in one product.
+            moved = rotation[:, :, np.newaxis, :] * offset_and_axis[np.newaxis, :, :, np.newaxis]
+            moved = moved.sum(axis=1)
+            positions[j] = position + moved[:, 0]
+            axes[j] = moved[:, 1]
             if self._revolute[j]:
-                sine, versine = np.sin(value[j]), 1.0 - np.cos(value[j])
-                local = (
-                    fixed[..., np.newaxis] + sine * k_term[..., np.newaxis]
-                ) + versine * k2_term[..., np.newaxis]
+                local = (fixed[..., np.newaxis] + sines[j] * k_term[..., np.newaxis]) + versines[
+                    j
+                ] * k2_term[..., np.newaxis]
                 position = positions[j]
             else:
                 local = fixed[..., np.newaxis]
                 position = positions[j] + axes[j] * value[j]
             rotation = _multiply(rotation, local)
-            rotations[j] = rotation
+            if rotations is not None:
+                rotations[j] = rotation
         tool_position = position + _apply(rotation, self._tool[:3, 3])
         tool_rotation = _multiply(rotation, self._tool[:3, :3, np.newaxis])
         return _ChainPass(rotations, positions, axes, tool_rotation, tool_position)
@@ -385,7 +393,8 @@ class SerialChain:
             by the joint's own motion; the tool pose.
         """
         configs, single = self.configurations(q)
-        chain_pass = self._pass(configs)
+        chain_pass = self._pass(configs, keep_rotations=True)
+        assert chain_pass.rotations is not None
         m = configs.shape[0]
         joints = _homogeneous_stack(
             chain_pass.rotations.transpose(1, 2, 0, 3).reshape(3, 3, -1),
@@ -565,14 +574,14 @@ class _ChainPass:
     origin and ``axes[j]`` its axis, all in the world frame.
     """
 
-    rotations: FloatArray  # (ndof, 3, 3, m)
+    rotations: FloatArray | None  # (ndof, 3, 3, m), when kept
     positions: FloatArray  # (ndof, 3, m)
     axes: FloatArray  # (ndof, 3, m)
     tool_rotation: FloatArray  # (3, 3, m)
     tool_position: FloatArray  # (3, m)
 
 
-def _local_terms(joint: Joint) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+def _local_terms(joint: Joint) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Constant parts of ``origin @ motion(q)``, for Rodrigues' formula.
 
     With ``K`` the axis' cross-product matrix the joint's rotation is
@@ -581,7 +590,8 @@ def _local_terms(joint: Joint) -> tuple[FloatArray, FloatArray, FloatArray, Floa
     a = joint.axis
     k = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
     fixed = joint.origin[:3, :3]
-    return fixed, fixed @ k, fixed @ k @ k, joint.origin[:3, 3], fixed @ a
+    offset_and_axis = np.stack([joint.origin[:3, 3], fixed @ a], axis=1)  # (3, 2)
+    return fixed, fixed @ k, fixed @ k @ k, offset_and_axis
 
 
 def _multiply(a: FloatArray, b: FloatArray) -> FloatArray:
