@@ -36,7 +36,14 @@ class InfeasibleError(TrajkitError):
 
 
 class UnreachableError(TrajkitError):
-    """A pose or point lies outside a robot's workspace."""
+    """A pose or point lies outside a robot's workspace.
+
+    ``index`` is the position of the first unreachable target in a batch, when known.
+    """
+
+    def __init__(self, message: str, *, index: int | None = None) -> None:
+        super().__init__(message)
+        self.index = index
 
 
 class ContinuityWarning(UserWarning):

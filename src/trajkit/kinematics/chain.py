@@ -415,7 +415,7 @@ class SerialChain:
         z, p = chain_pass.axes, chain_pass.positions
         arm = chain_pass.tool_position[np.newaxis] - p
         rev = self._revolute[:, np.newaxis, np.newaxis]
-        linear = np.where(rev, np.cross(z, arm, axis=1), z)
+        linear = np.where(rev, _cross(z, arm), z)
         angular = np.where(rev, z, 0.0)
         return np.concatenate([linear, angular], axis=1).transpose(2, 1, 0)
 
@@ -472,16 +472,16 @@ class SerialChain:
         # Angular velocity of the link each joint axis is fixed to: the joints before it.
         spin = np.where(rev, z, 0.0) * rates
         link_rate = np.cumsum(spin, axis=0) - spin
-        z_dot = np.cross(link_rate, z, axis=1)
+        z_dot = _cross(link_rate, z)
         # Velocity of each joint's origin, from the joints before it.
-        contribution = np.where(rev, -np.cross(z, p, axis=1), z) * rates
-        p_dot = np.cross(link_rate, p, axis=1) + np.cumsum(contribution, axis=0) - contribution
+        contribution = np.where(rev, -_cross(z, p), z) * rates
+        p_dot = _cross(link_rate, p) + np.cumsum(contribution, axis=0) - contribution
         jacobian = self._jacobian_of(chain_pass)  # (m, 6, ndof)
         tool_velocity = np.einsum("mkj,jm->km", jacobian[:, :3], rates[:, 0, :])
         arm = chain_pass.tool_position[np.newaxis] - p
         linear = np.where(
             rev,
-            np.cross(z_dot, arm, axis=1) + np.cross(z, tool_velocity[np.newaxis] - p_dot, axis=1),
+            _cross(z_dot, arm) + _cross(z, tool_velocity[np.newaxis] - p_dot),
             z_dot,
         )
         angular = np.where(rev, z_dot, 0.0)
@@ -565,6 +565,41 @@ class SerialChain:
             raise_on_failure=raise_on_failure,
         )
 
+    def ik_path(
+        self,
+        targets: ArrayLike,
+        q_start: ArrayLike | None = None,
+        *,
+        position_only: bool = False,
+        tolerance: float = 1e-10,
+    ) -> IKSolution:
+        """IK for a sequence of nearby targets (a sampled path), on one solution branch.
+
+        Parameters
+        ----------
+        targets : array_like, shape (m, 4, 4) or (m, 3)
+            Tool poses, or positions (m) with ``position_only``, in path order.
+        q_start : array_like, shape (ndof,), optional
+            Seed of the first target; it selects the branch followed.
+        position_only : bool
+        tolerance : float
+            As in :meth:`ik`.
+
+        Returns
+        -------
+        IKSolution
+
+        Raises
+        ------
+        UnreachableError
+            Its ``index`` is the first target not reached.
+        """
+        from trajkit.kinematics.ik import solve_along_path
+
+        return solve_along_path(
+            self, targets, q_start, position_only=position_only, tolerance=tolerance
+        )
+
 
 @dataclass(frozen=True)
 class _ChainPass:
@@ -597,6 +632,18 @@ def _local_terms(joint: Joint) -> tuple[FloatArray, FloatArray, FloatArray, Floa
 def _multiply(a: FloatArray, b: FloatArray) -> FloatArray:
     """Products of component-major 3x3 stacks: (3, 3, m) @ (3, 3, m or 1)."""
     return (a[:, :, np.newaxis, :] * b[np.newaxis, :, :, :]).sum(axis=1)
+
+
+def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Cross products along axis 1 of (ndof, 3, m) stacks (np.cross's axis handling is slow)."""
+    return np.stack(
+        [
+            a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
+            a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+            a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
+        ],
+        axis=1,
+    )
 
 
 def _apply(rotation: FloatArray, vector: FloatArray) -> FloatArray:

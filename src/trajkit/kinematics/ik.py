@@ -25,7 +25,10 @@ if TYPE_CHECKING:
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["IKSolution", "solve_numerical"]
+__all__ = ["IKSolution", "solve_along_path", "solve_numerical"]
+
+#: Knots solved one after another before the whole path is solved at once.
+_CONTINUATION_KNOTS = 16
 
 #: Damping added to Sugihara's error term, relative to the chain's scale squared: it
 #: bounds the step at a singularity and vanishes in effect as the error goes to 0.
@@ -151,6 +154,7 @@ def solve_numerical(
 
     best_q = q.copy()
     best_cost = np.full(m, np.inf)
+    best_error = np.full((m, weights.size), np.inf)  # the error at best_q: no pass at the end
     done = np.zeros(m, dtype=bool)
     used = 0
     for attempt in range(int(restarts) + 1):
@@ -169,10 +173,11 @@ def solve_numerical(
             target_rot = None if rotations is None else rotations[active]
             error, jacobian = _errors(chain, qa, target_points, target_rot)
             cost = 0.5 * np.einsum("mk,k,mk->m", error, weights, error)
-            improved = cost < best_cost[active]
+            finished = converged(error)
+            improved = (cost < best_cost[active]) | finished
             best_cost[active[improved]] = cost[improved]
             best_q[active[improved]] = qa[improved]
-            finished = converged(error)
+            best_error[active[improved]] = error[improved]
             done[active[finished]] = True
             keep = ~finished
             if not keep.any():
@@ -191,9 +196,8 @@ def solve_numerical(
             gradient = np.einsum("mkj,mk->mj", weighted, error)
             step = np.linalg.solve(normal, gradient[..., np.newaxis])[..., 0]
             q[active] = np.clip(qa + step, lower, upper)
-    q_final = np.where(done[:, np.newaxis], q, best_q)
-    q_final = _wrap_toward(q_final, seed_copy, chain.revolute & ~bounded)
-    error, _ = _errors(chain, q_final, points, rotations)
+    q_final = _wrap_toward(best_q, seed_copy, chain.revolute & ~bounded)
+    error = best_error
     position_error = np.linalg.norm(error[:, :3], axis=1)
     orientation_error = np.linalg.norm(error[:, 3:], axis=1) if error.shape[1] == 6 else np.zeros(m)
     success = converged(error)
@@ -204,7 +208,8 @@ def solve_numerical(
             f"IK did not reach the target{where}: the closest tool pose found is "
             f"{position_error[worst]:.6g} m and {orientation_error[worst]:.6g} rad away "
             f"after {restarts + 1} attempts; the target is out of reach or outside the "
-            "joint ranges"
+            "joint ranges",
+            index=worst,
         )
     if single:
         return IKSolution(
@@ -215,3 +220,108 @@ def solve_numerical(
             used,
         )
     return IKSolution(q_final, success, position_error, orientation_error, used)
+
+
+def solve_along_path(
+    chain: SerialChain,
+    targets: ArrayLike,
+    q_start: ArrayLike | None = None,
+    *,
+    position_only: bool = False,
+    tolerance: float = 1e-10,
+    knots: int = _CONTINUATION_KNOTS,
+) -> IKSolution:
+    """IK for a sequence of nearby targets, staying on one solution branch.
+
+    A coarse set of ``knots`` targets is solved in order, each warm-started from
+    the previous one (so the solution follows the branch ``q_start`` picks);
+    every target is then solved at once from seeds interpolated between the
+    knots, which converge in a few Newton steps. No random restarts are made,
+    since a restart could land on another branch.
+
+    Parameters
+    ----------
+    chain : SerialChain
+    targets : array_like, shape (m, 4, 4) or (m, 3)
+        Tool poses, or positions with ``position_only``, in path order.
+    q_start : array_like, shape (ndof,), optional
+        Seed of the first target (default: the middle of the joint ranges).
+    position_only : bool
+    tolerance : float
+        As in :meth:`SerialChain.ik`.
+    knots : int
+        Targets solved one after another (>= 2).
+
+    Returns
+    -------
+    IKSolution
+        Every target reached.
+
+    Raises
+    ------
+    UnreachableError
+        With ``index`` set to the first target not reached.
+    """
+    points, _, single = parse_targets(targets, position_only)
+    if single:
+        raise InvalidInputError("targets must be a sequence of poses or positions, not one")
+    m = points.shape[0]
+    if int(knots) < 2:
+        raise InvalidInputError(f"knots must be >= 2, got {knots}")
+    array = np.asarray(targets, dtype=np.float64)
+    knot_index = np.unique(np.linspace(0, m - 1, min(m, int(knots))).round().astype(int))
+    q_knots = np.empty((knot_index.size, chain.ndof))
+    seed = q_start
+    for i, k in enumerate(knot_index):
+        solution = solve_numerical(
+            chain, array[k], seed, position_only=position_only, tolerance=tolerance,
+            restarts=0 if i else 30, raise_on_failure=False,
+        )  # fmt: skip
+        if not solution.success:
+            raise UnreachableError(
+                f"target {k} is not reached: the closest tool pose found is "
+                f"{solution.position_error:.6g} m and {solution.orientation_error:.6g} rad away",
+                index=int(k),
+            )
+        q_knots[i] = solution.q
+        seed = solution.q
+    # Refine level by level, each solved at once from seeds interpolated between the
+    # level before: seeds stay close, so each level takes a few Newton steps.
+    while True:
+        count = knot_index.size * 16
+        count = m if count * 4 > m else count  # a last short level costs a whole pass
+        finer = np.unique(np.linspace(0, m - 1, count).round().astype(int))
+        seeds = np.stack(
+            [np.interp(finer, knot_index, q_knots[:, j]) for j in range(chain.ndof)], axis=1
+        )
+        batch = solve_numerical(
+            chain, array[finer], seeds, position_only=position_only, tolerance=tolerance,
+            restarts=0, raise_on_failure=False,
+        )  # fmt: skip
+        if finer.size == m:
+            break
+        ok = np.asarray(batch.success)
+        knot_index, q_knots = finer[ok], np.asarray(batch.q)[ok]
+    q = np.array(batch.q)
+    success = np.array(batch.success)
+    retried: dict[int, tuple[float, float]] = {}
+    for k in np.flatnonzero(~success):  # rare: targets the interpolated seed did not lead home
+        previous = q[k - 1] if k > 0 else seeds[k]
+        retry = solve_numerical(
+            chain, array[k], previous, position_only=position_only, tolerance=tolerance,
+            restarts=0, raise_on_failure=False,
+        )  # fmt: skip
+        if not retry.success:
+            raise UnreachableError(
+                f"target {k} is not reached: the closest tool pose found is "
+                f"{retry.position_error:.6g} m and {retry.orientation_error:.6g} rad away",
+                index=int(k),
+            )
+        q[k] = retry.q
+        success[k] = True
+        retried[int(k)] = (float(retry.position_error), float(retry.orientation_error))
+    position_error = np.array(batch.position_error)
+    orientation_error = np.array(batch.orientation_error)
+    for k in retried:
+        position_error[k], orientation_error[k] = retried[k]
+    return IKSolution(q, success, position_error, orientation_error, batch.iterations)

@@ -35,8 +35,6 @@ FloatArray = NDArray[np.float64]
 
 __all__ = ["JointSpacePlan", "to_joint_space"]
 
-#: Knots of the sequential continuation for numerical IK, per trajectory.
-_CONTINUATION_KNOTS = 64
 #: A step between samples larger than this many times the step the joint
 #: velocities predict (plus a small floor) means the solution left its branch.
 _JUMP_FACTOR = 10.0
@@ -146,50 +144,6 @@ def _analytic_ik(
     return solutions[:, chosen]
 
 
-def _numerical_ik(
-    robot: SerialChain, task: TaskState, q_start: FloatArray | None, position_only: bool
-) -> FloatArray:
-    targets = _targets(task, position_only)
-    m = targets.shape[0]
-    knots = np.unique(np.linspace(0, m - 1, min(m, _CONTINUATION_KNOTS)).round().astype(int))
-    q_knots = np.empty((knots.size, robot.ndof))
-    seed = q_start
-    for i, k in enumerate(knots):
-        # Warm start from the previous knot: no random restarts, which could jump branch.
-        solution = robot.ik(
-            targets[k], seed, position_only=position_only, restarts=0 if i else 30,
-            raise_on_failure=False,
-        )  # fmt: skip
-        if not solution.success:
-            raise UnreachableError(
-                f"task sample at t={task.t[k]:.6g} s is not reached: the closest tool pose "
-                f"is {solution.position_error:.6g} away in position and "
-                f"{solution.orientation_error:.6g} rad in orientation"
-            )
-        q_knots[i] = solution.q
-        seed = solution.q
-    seeds = np.stack(
-        [np.interp(np.arange(m), knots, q_knots[:, j]) for j in range(robot.ndof)], axis=1
-    )
-    batch = robot.ik(
-        targets, seeds, position_only=position_only, restarts=0, raise_on_failure=False
-    )
-    q = np.array(batch.q)
-    failed = np.flatnonzero(~np.asarray(batch.success))
-    for k in failed:  # rare: only samples the interpolated seed did not lead home
-        previous = q[k - 1] if k > 0 else seeds[k]
-        solution = robot.ik(
-            targets[k], previous, position_only=position_only, restarts=0, raise_on_failure=False
-        )
-        if not solution.success:
-            raise UnreachableError(
-                f"task sample at t={task.t[k]:.6g} s is not reached: the closest tool pose is "
-                f"{solution.position_error:.6g} away"
-            )
-        q[k] = solution.q
-    return q
-
-
 def _rates(
     robot: SerialChain, q: FloatArray, task: TaskState, position_only: bool
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -296,7 +250,11 @@ def to_joint_space(
     else:
         if branch is not None:
             raise InvalidInputError(f"branch applies to closed-form arms only, not {robot.name}")
-        q = _numerical_ik(robot, state, start, position_only)
+        try:
+            q = robot.ik_path(_targets(state, position_only), start, position_only=position_only).q
+        except UnreachableError as exc:
+            where = "" if exc.index is None else f"task sample at t={t[exc.index]:.6g} s: "
+            raise UnreachableError(f"{where}{exc}", index=exc.index) from None
     q = _unwrap(q, robot, start)
     qd, qdd, inverse_condition = _rates(robot, q, state, position_only)
     _check_jumps(t, q, qd)
