@@ -499,6 +499,7 @@ class SerialChain:
         part : {"all", "position", "orientation"}
             Which rows: all six, the linear three, or the angular three. For
             a chain with fewer joints than rows, ``sqrt(det(Jᵀ J))`` is used.
+            Computed as the product of singular values.
 
         Returns
         -------
@@ -508,12 +509,9 @@ class SerialChain:
         rows = _rows(part)
         configs, single = self.configurations(q)
         jacobian = self._jacobian_of(self._pass(configs))[:, rows]
-        gram = (
-            jacobian @ jacobian.transpose(0, 2, 1)
-            if jacobian.shape[1] <= jacobian.shape[2]
-            else jacobian.transpose(0, 2, 1) @ jacobian
-        )
-        value = np.sqrt(np.maximum(np.linalg.det(gram), 0.0))
+        # The product of singular values equals sqrt(det(J Jᵀ)) but keeps its accuracy
+        # near a singularity, where the determinant's rounding would dominate the root.
+        value = np.prod(np.linalg.svd(jacobian, compute_uv=False), axis=1)
         return float(value[0]) if single else value
 
     # ------------------------------------------------------------------------- IK
