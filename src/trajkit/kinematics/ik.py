@@ -130,7 +130,9 @@ def solve_numerical(
     m, n = points.shape[0], chain.ndof
     lower, upper = chain.lower, chain.upper
     bounded = np.isfinite(lower) & np.isfinite(upper)
-    middle = np.where(bounded, 0.5 * (lower + upper), 0.0)
+    middle = np.where(
+        bounded, 0.5 * (np.where(bounded, lower, 0.0) + np.where(bounded, upper, 0.0)), 0.0
+    )
     if q_seed is None:
         q = np.broadcast_to(middle, (m, n)).copy()
     else:

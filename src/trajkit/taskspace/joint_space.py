@@ -263,12 +263,17 @@ def to_joint_space(
     coefficients = hermite_pieces(boundary[:, :-1], boundary[:, 1:], durations[:, np.newaxis])
     trajectory = Trajectory(t, coefficients, info={"planner": "to_joint_space", "dt": dt})
     path_error = _path_error(robot, trajectory, task, t, position_only)
+    singular = np.flatnonzero(inverse_condition < threshold)
     if path_error > tolerance:
+        cause = (
+            f"the path passes through or near a singularity at t={t[singular[0]]:.6g} s"
+            if singular.size
+            else f"use a smaller dt than {dt:g} s"
+        )
         raise InfeasibleError(
             f"the joint spline strays {path_error:.3g} from the task path between samples, "
-            f"more than the tolerance {tolerance:g}: use a smaller dt than {dt:g} s"
+            f"more than the tolerance {tolerance:g}: {cause}"
         )
-    singular = np.flatnonzero(inverse_condition < threshold)
     return JointSpacePlan(
         trajectory=trajectory,
         t=t,
