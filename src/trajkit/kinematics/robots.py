@@ -107,10 +107,10 @@ class AnalyticChain(SerialChain):
             if seeds.shape[0] not in (1, m):
                 raise InvalidInputError(f"q_seed gives {seeds.shape[0]} seeds for {m} targets")
             seeds = np.broadcast_to(seeds, (m, self.ndof))
-            solutions = self._wrap_near(solutions, seeds[:, np.newaxis, :])
+            solutions = self.wrap_near(solutions, seeds[:, np.newaxis, :])
         in_range = np.all((solutions >= self._lower) & (solutions <= self._upper), axis=2)
         if branch is not None:
-            index = self._branch_index(branch)
+            index = self.branch_index(branch)
             q = solutions[:, index]
             valid = in_range[:, index]
         elif q_seed is not None:
@@ -150,12 +150,17 @@ class AnalyticChain(SerialChain):
             error[ok] = np.linalg.norm(self.fk(q[ok])[:, :3, 3] - points[ok], axis=1)
         return error
 
-    def _wrap_near(self, solutions: FloatArray, seeds: FloatArray) -> FloatArray:
+    def wrap_near(self, solutions: FloatArray, seeds: FloatArray) -> FloatArray:
+        """Shift unbounded revolute joints of ``solutions`` by whole turns to lie near ``seeds``.
+
+        Arrays broadcast against each other, joints on the last axis (rad).
+        """
         turns = np.round((solutions - seeds) / (2 * np.pi))
         unbounded = self._revolute & ~(np.isfinite(self._lower) & np.isfinite(self._upper))
         return np.where(unbounded, solutions - 2 * np.pi * turns, solutions)
 
-    def _branch_index(self, branch: int | str) -> int:
+    def branch_index(self, branch: int | str) -> int:
+        """Index of a branch given by index or by name (see :attr:`branch_names`)."""
         if isinstance(branch, str):
             if branch not in self.branch_names:
                 raise InvalidInputError(

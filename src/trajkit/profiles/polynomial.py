@@ -253,7 +253,7 @@ def _search_minimum(
     around the one that makes the move a straight line), so the candidates are the
     exact durations where an end value meets a limit (:func:`_endpoint_crossings`)
     and a dense logarithmic scan; the first feasible candidate is refined by
-    bisection against its predecessor to 1e-13 relative. A window bounded only by
+    bisection against its predecessor to the last bits of ``T``. A window bounded only by
     interior peaks and narrower than the scan's spacing (0.6 %) can be missed.
 
     Raises
@@ -304,7 +304,9 @@ def _search_minimum(
             b = middle
         else:
             a = middle
-        if b - a <= 1e-13 * b:
+        # To the last bits: where a peak depends steeply on T (boundary velocities
+        # with little room), 1e-13 relative in T can still be 1e-9 in the peak.
+        if b - a <= 4 * np.spacing(b):
             break
     # Where the limit is touched tangentially the ratio exceeds 1 only quadratically,
     # so bisection stops up to ~1e-8 early; an exact critical duration nearby is the

@@ -132,11 +132,11 @@ def _analytic_ik(
         try:
             robot.ik(task.position[k])
         except UnreachableError as exc:
-            raise UnreachableError(f"task sample at t={task.t[k]:.6g} s: {exc}") from None
+            raise UnreachableError(f"task sample at t={task.t[k]:.6g} s: {exc}", index=k) from None
     if branch is not None:
-        chosen = robot._branch_index(branch)
+        chosen = robot.branch_index(branch)
     elif q_start is not None:
-        first = robot._wrap_near(solutions[:1], q_start[np.newaxis, np.newaxis])[0]
+        first = robot.wrap_near(solutions[:1], q_start[np.newaxis, np.newaxis])[0]
         distance = np.nan_to_num(np.linalg.norm(first - q_start, axis=1), nan=np.inf)
         chosen = int(np.argmin(distance))
     else:
