@@ -68,11 +68,7 @@ class Joint:
             raise InvalidInputError(
                 f"joint {self.name!r}: kind must be 'revolute' or 'prismatic', got {self.kind!r}"
             )
-        origin = finite_array(f"joint {self.name!r} origin", self.origin)
-        if origin.shape != (4, 4):
-            raise InvalidInputError(
-                f"joint {self.name!r} origin must be a 4x4 transform, got shape {origin.shape}"
-            )
+        origin = _transform(f"joint {self.name!r} origin", self.origin)
         axis = finite_array(f"joint {self.name!r} axis", self.axis)
         norm = float(np.linalg.norm(axis)) if axis.shape == (3,) else 0.0
         if norm == 0.0:
@@ -92,7 +88,9 @@ class Joint:
             )
         object.__setattr__(self, "origin", np.array(origin))
         object.__setattr__(self, "axis", np.array(axis) / norm)
-        object.__setattr__(self, "offset", float(self.offset))
+        object.__setattr__(
+            self, "offset", float(finite_array(f"joint {self.name!r} offset", self.offset))
+        )
 
     @property
     def revolute(self) -> bool:
@@ -305,11 +303,17 @@ class SerialChain:
         """An upper bound on the distance from the first joint to the tool (m).
 
         The sum of the fixed offsets along the chain; prismatic joints add the
-        largest magnitude of their range (``inf`` when unbounded).
+        largest magnitude of their offset plus range (``inf`` when unbounded).
         """
         lengths = np.linalg.norm(self._origins[1:, :3, 3], axis=1).sum()
         lengths += np.linalg.norm(self._tool[:3, 3])
-        travel = np.where(self._revolute, 0.0, np.maximum(np.abs(self._lower), np.abs(self._upper)))
+        # A slider moves its axis by offset + q, q within its range.
+        offsets = self._offsets
+        travel = np.where(
+            self._revolute,
+            0.0,
+            np.maximum(np.abs(self._lower + offsets), np.abs(self._upper + offsets)),
+        )
         return float(lengths + travel.sum())
 
     def __repr__(self) -> str:

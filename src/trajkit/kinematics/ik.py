@@ -76,6 +76,8 @@ def parse_targets(
     if array.shape[-2:] == (4, 4):
         single = array.ndim == 2
         poses = array.reshape(-1, 4, 4)
+        if not np.allclose(poses[:, 3], [0.0, 0.0, 0.0, 1.0]):
+            raise InvalidInputError("target poses must have the last row 0 0 0 1")
         rotations = as_rotation_matrices("target rotation", poses[:, :3, :3])
         return poses[:, :3, 3].copy(), (None if position_only else rotations), single
     if array.ndim in (1, 2) and array.shape[-1] == 3:
@@ -280,10 +282,19 @@ def solve_along_path(
             restarts=0 if i else 30, raise_on_failure=False,
         )  # fmt: skip
         if not solution.success:
+            # Name the first target not reached since the last good knot, not the knot.
+            previous = knot_index[i - 1] if i else -1
+            between = np.arange(previous + 1, k + 1)
+            trial = solve_numerical(
+                chain, array[between], seed, position_only=position_only,
+                tolerance=tolerance, restarts=0, raise_on_failure=False,
+            )  # fmt: skip
+            first = int(between[np.argmax(~np.asarray(trial.success))])
             raise UnreachableError(
-                f"target {k} is not reached: the closest tool pose found is "
-                f"{solution.position_error:.6g} m and {solution.orientation_error:.6g} rad away",
-                index=int(k),
+                f"target {first} is not reached: the closest tool pose found is "
+                f"{trial.position_error[first - previous - 1]:.6g} m and "
+                f"{trial.orientation_error[first - previous - 1]:.6g} rad away",
+                index=first,
             )
         q_knots[i] = solution.q
         seed = solution.q

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from trajkit._validation import positive_scalar
+from trajkit._validation import finite_array, positive_scalar
 from trajkit.errors import InvalidInputError, UnreachableError
 from trajkit.kinematics.chain import DHRow, Joint, SerialChain, _translation
 from trajkit.kinematics.ik import IKSolution, parse_targets
@@ -32,6 +32,8 @@ class AnalyticChain(SerialChain):
 
     #: Names of the solution branches, in index order.
     branch_names: tuple[str, ...] = ()
+    #: Unit of lengths in messages ("" when the arm takes any unit).
+    length_unit: str = "m"
 
     @abstractmethod
     def _branches(self, local: FloatArray) -> tuple[FloatArray, FloatArray, str]:
@@ -108,6 +110,7 @@ class AnalyticChain(SerialChain):
                 raise InvalidInputError(f"q_seed gives {seeds.shape[0]} seeds for {m} targets")
             seeds = np.broadcast_to(seeds, (m, self.ndof))
             solutions = self.wrap_near(solutions, seeds[:, np.newaxis, :])
+        solutions = self._into_ranges(solutions)
         in_range = np.all((solutions >= self._lower) & (solutions <= self._upper), axis=2)
         if branch is not None:
             index = self.branch_index(branch)
@@ -130,12 +133,15 @@ class AnalyticChain(SerialChain):
             where = "" if single else f"target {worst} "
             point = np.array2string(points[worst], precision=6)
             if outside[worst] > 0:
+                unit = f" {self.length_unit}" if self.length_unit else ""
                 raise UnreachableError(
-                    f"{where}{point} is out of reach of {self.name}: {outside[worst]:.6g} m "
-                    f"beyond {bound}"
+                    f"{where}{point} is out of reach of {self.name}: {outside[worst]:.6g}{unit} "
+                    f"beyond {bound}",
+                    index=worst,
                 )
             raise UnreachableError(
-                f"{where}{point}: no solution of {self.name} within its joint ranges"
+                f"{where}{point}: no solution of {self.name} within its joint ranges",
+                index=worst,
             )
         q = np.where(success[:, np.newaxis], q, np.nan)
         error = np.where(success, self._position_error(q, points), np.inf)
@@ -149,6 +155,21 @@ class AnalyticChain(SerialChain):
         if ok.any():
             error[ok] = np.linalg.norm(self.fk(q[ok])[:, :3, 3] - points[ok], axis=1)
         return error
+
+    def _into_ranges(self, solutions: FloatArray) -> FloatArray:
+        """Shift bounded revolute joints by whole turns into their range where one fits."""
+        bounded = self._revolute & np.isfinite(self._lower) & np.isfinite(self._upper)
+        if not bounded.any():
+            return solutions
+        with np.errstate(invalid="ignore"):
+            turns = np.ceil((self._lower - solutions) / (2 * np.pi))
+            shifted = solutions + 2 * np.pi * turns
+            fits = (
+                bounded
+                & (shifted <= self._upper)
+                & ~((solutions >= self._lower) & (solutions <= self._upper))
+            )
+        return np.where(fits, shifted, solutions)
 
     def wrap_near(self, solutions: FloatArray, seeds: FloatArray) -> FloatArray:
         """Shift unbounded revolute joints of ``solutions`` by whole turns to lie near ``seeds``.
@@ -232,7 +253,7 @@ class Planar2R(AnalyticChain):
     ik.__doc__ = AnalyticChain.ik.__doc__
 
     def _as_points(self, target: ArrayLike) -> FloatArray:
-        array = np.asarray(target, dtype=np.float64)
+        array = finite_array("target", target)
         if array.ndim in (1, 2) and array.shape[-1] == 2:
             # 2-D points are coordinates in the base plane.
             plane = np.concatenate(
@@ -304,6 +325,7 @@ class Spatial3R(AnalyticChain):
         Link lengths (default 5, 10, 8, 12 cm as in the course; any length unit).
     """
 
+    length_unit = ""
     branch_names = ("forward_elbow_positive", "forward_elbow_negative",
                     "backward_elbow_positive", "backward_elbow_negative")  # fmt: skip
 
