@@ -78,7 +78,7 @@ class JointSpacePlan:
     @property
     def ok(self) -> bool:
         """True when no limit is broken and no sample is near a singularity."""
-        return self.limits.ok and self.singular_time is None
+        return self.limits.ok and self.first_violation is None and self.singular_time is None
 
     def problems(self) -> list[str]:
         """One sentence per problem found (empty when :attr:`ok`)."""
@@ -175,7 +175,8 @@ def _first_violation(
         ("position", q, lower, upper),
         ("velocity", qd, -speed, speed),
     ):
-        slack = rtol * np.maximum(np.abs(np.nan_to_num(low)), np.abs(np.nan_to_num(high)))
+        finite_low = np.where(np.isfinite(low), np.abs(low), 0.0)
+        slack = rtol * np.maximum(finite_low, np.where(np.isfinite(high), np.abs(high), 0.0))
         bad = (values < low - slack) | (values > high + slack)
         if bad.any():
             k, j = np.argwhere(bad)[0]
@@ -234,7 +235,15 @@ def to_joint_space(
     dt = positive_scalar("dt", dt, unit="s")
     tolerance = positive_scalar("tolerance", tolerance)
     threshold = positive_scalar("singularity_threshold", singularity_threshold)
-    start = None if q_start is None else robot.configurations(q_start, "q_start")[0][0]
+    start = None
+    if q_start is not None:
+        configs, single = robot.configurations(q_start, "q_start")
+        if not single:
+            raise InvalidInputError(
+                f"q_start must be one configuration of shape ({robot.ndof},), got "
+                f"{configs.shape[0]} rows"
+            )
+        start = configs[0]
     position_only = not task.has_orientation
     analytic = isinstance(robot, AnalyticChain)
     if analytic and not position_only:

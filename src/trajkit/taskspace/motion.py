@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from trajkit._validation import finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.profiles import cubic, quintic, scurve, septic, trapezoidal
-from trajkit.rotations import as_rotation_matrices, axis_rotation, slerp_axis
+from trajkit.rotations import as_rotation_matrices, axis_rotation, rotation_error, slerp_axis
 from trajkit.taskspace.paths import Line, Path
 from trajkit.trajectory import Trajectory
 
@@ -189,6 +189,7 @@ class TaskTrajectory:
         oriented = {s.rotation is not None for s in segments}
         if len(oriented) != 1:
             raise InvalidInputError("either every segment has an orientation or none has")
+        segments = tuple(_checked_segment(i, s) for i, s in enumerate(segments))
         for i in range(1, len(segments)):
             gap = np.linalg.norm(segments[i].path.start - segments[i - 1].path.end)
             scale = max(1.0, float(np.linalg.norm(segments[i].path.start)))
@@ -196,6 +197,15 @@ class TaskTrajectory:
                 raise InvalidInputError(
                     f"segment {i + 1} starts {gap:.3g} away from where segment {i} ends"
                 )
+            previous, current = segments[i - 1], segments[i]
+            if current.rotation is not None:
+                assert previous.rotation is not None and previous.axis is not None
+                end = axis_rotation(previous.axis, previous.angle) @ previous.rotation
+                turn = float(np.linalg.norm(rotation_error(current.rotation, end)))
+                if turn > 1e-9:
+                    raise InvalidInputError(
+                        f"segment {i + 1} starts turned {turn:.3g} rad from where segment {i} ends"
+                    )
         self._segments = segments
         durations = np.array([s.law.duration for s in segments])
         self._breakpoints = np.concatenate([[0.0], np.cumsum(durations)])
@@ -269,12 +279,29 @@ class TaskTrajectory:
         return TaskState(times, position, velocity, acceleration, rotation, omega, alpha)
 
 
+def _checked_segment(index: int, segment: TaskSegment) -> TaskSegment:
+    """A segment with its law checked (1-D, 0 to 1, from t = 0) and its turn well formed."""
+    if not isinstance(segment, TaskSegment) or not isinstance(segment.path, Path):
+        raise InvalidInputError(f"segment {index + 1} must be a TaskSegment with a Path")
+    law = _check_law(segment.law)
+    if segment.rotation is None:
+        return TaskSegment(segment.path, law)
+    rotation = as_rotation_matrices(f"segment {index + 1} rotation", segment.rotation)
+    axis = finite_array(f"segment {index + 1} axis", segment.axis)
+    if axis.shape != (3,) or abs(float(np.linalg.norm(axis)) - 1.0) > 1e-9:
+        raise InvalidInputError(f"segment {index + 1} axis must be a unit 3-vector")
+    angle = float(finite_array(f"segment {index + 1} angle", segment.angle))
+    return TaskSegment(segment.path, law, np.array(rotation), np.array(axis), angle)
+
+
 def _orientation(
     orientation: ArrayLike | tuple[ArrayLike, ArrayLike] | None,
 ) -> tuple[FloatArray | None, FloatArray | None, float]:
     """(start rotation, axis, angle) from None, a fixed 3x3 rotation, or a (start, end) pair."""
     if orientation is None:
         return None, None, 0.0
+    if not isinstance(orientation, tuple) and np.shape(orientation) == (2, 3, 3):
+        orientation = (np.asarray(orientation)[0], np.asarray(orientation)[1])
     if isinstance(orientation, tuple):
         if len(orientation) != 2:
             raise InvalidInputError("orientation must be a 3x3 rotation or a (start, end) pair")
