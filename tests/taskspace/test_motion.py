@@ -534,6 +534,9 @@ ARC = Arc([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], np.pi)
 LAW = path_law("cubic", duration=1.0)
 
 
+SCALED_ROTATION = np.block([[np.full((3, 3), 2.0), np.ones((3, 1))], [np.ones((1, 4))]])
+
+
 @pytest.mark.parametrize(
     ("call", "message"),
     [
@@ -601,8 +604,12 @@ LAW = path_law("cubic", duration=1.0)
         (lambda: through_poses(np.zeros((2, 3, 3)), durations=[1]), "poses must have shape"),
         (lambda: through_poses([[0, 0, np.nan], [1, 0, 0]], durations=[1]), "poses must be finite"),
         (
-            lambda: through_poses(np.stack([POSES[0], 2 * POSES[1]]), durations=[1]),
+            lambda: through_poses(np.stack([POSES[0], SCALED_ROTATION * POSES[1]]), durations=[1]),
             "poses rotation is not a rotation matrix",
+        ),
+        (
+            lambda: through_poses(np.stack([POSES[0], 2 * POSES[1]]), durations=[1]),
+            "poses must have the last row 0 0 0 1",
         ),
         (lambda: TaskTrajectory([]), "at least one segment"),
         (

@@ -382,7 +382,8 @@ def through_poses(
     poses : array_like, shape (k, 4, 4) or (k, 3)
         Tool poses, or tool positions for a position-only motion; ``k >= 2``.
     profile : {"cubic", "quintic", "septic", "trapezoid"}
-        Rest-to-rest law of each segment.
+        Rest-to-rest law of each segment; a trapezoid needs the speed and
+        acceleration limits (with ``durations`` too, which it then stretches to).
     durations : array_like, shape (k - 1,), optional
         Time of each segment (s); otherwise the shortest under the limits.
     vmax, amax : float, optional
@@ -398,6 +399,8 @@ def through_poses(
     """
     array = finite_array("poses", poses)
     if array.ndim == 3 and array.shape[1:] == (4, 4):
+        if not np.allclose(array[:, 3], [0.0, 0.0, 0.0, 1.0]):
+            raise InvalidInputError("poses must have the last row 0 0 0 1")
         points = array[:, :3, 3]
         rotations = as_rotation_matrices("poses rotation", array[:, :3, :3])
     elif array.ndim == 2 and array.shape[1] == 3:
@@ -442,6 +445,12 @@ def through_poses(
                 candidates.append(positive_scalar(name, angular) / angle)
             if candidates:
                 u_limits[key] = min(candidates)
+        if duration is None and not u_limits:
+            moving = "only turns" if length == 0.0 else "only moves"
+            needed = "wmax/alpha_max" if length == 0.0 else "vmax/amax"
+            raise InvalidInputError(
+                f"segment {i + 1} {moving}: give {needed} or durations to time it"
+            )
         law = path_law(profile, duration=duration, speed_bound=1.0, **u_limits)
         segments.append(TaskSegment(line, law, rotation, axis, angle))
     return TaskTrajectory(segments)
