@@ -21,6 +21,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from trajkit._periods import whole_periods
 from trajkit._validation import positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.kinematics.chain import SerialChain
@@ -92,7 +93,7 @@ def quantized_duration(duration: float, period: float) -> float:
     """
     duration = positive_scalar("duration", duration, unit="s")
     period = positive_scalar("period", period, unit="s")
-    count = np.ceil(duration / period - 1e-9)
+    count = whole_periods(duration, period)
     return float(max(count, 1.0) * period)
 
 
@@ -146,7 +147,7 @@ def discretization_error(
         quantized = trajectory.time_scaled(target / duration) if duration > 0 else trajectory
     start = trajectory.start_time
     end = max(duration, quantized.duration)
-    count = int(np.ceil(end / period - 1e-9))
+    count = int(whole_periods(end, period))
     t = start + np.arange(count + 1) * period
 
     def tool(traj: Trajectory, times: FloatArray) -> FloatArray:

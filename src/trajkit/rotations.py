@@ -18,6 +18,7 @@ from trajkit.errors import InvalidInputError
 FloatArray = NDArray[np.float64]
 
 __all__ = [
+    "as_rotation_matrices",
     "axis_rotation",
     "homogeneous",
     "rotation_error",

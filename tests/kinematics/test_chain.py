@@ -789,3 +789,13 @@ def test_joint_refuses_a_non_rigid_origin():
     with pytest.raises(InvalidInputError, match="rigid transform") as excinfo:
         Joint("j", "revolute", origin=scaled)
     assert type(excinfo.value) is InvalidInputError
+
+
+def test_only_continuous_joints_wrap_by_whole_turns():
+    chain = SerialChain.from_dh(
+        [DHRow(a=1.0), DHRow(a=1.0, upper=1.0), DHRow(a=1.0, lower=-1.0, upper=1.0),
+         DHRow(kind="prismatic")]
+    )  # fmt: skip
+    assert chain.continuous.tolist() == [True, False, False, False]
+    q = np.array([0.2 + 4 * np.pi, 0.2 + 2 * np.pi, 0.5, 3.0])
+    np.testing.assert_allclose(chain.wrap_near(q, np.zeros(4)), [0.2, q[1], 0.5, 3.0], atol=1e-12)

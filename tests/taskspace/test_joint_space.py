@@ -7,6 +7,7 @@ singularities, joint limits and branch selection; bad input.
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path as FilePath
 
@@ -600,11 +601,19 @@ def test_a_velocity_limit_on_some_joints_only_makes_the_plan_not_ok():
 
 
 def test_first_violation_reports_a_one_sided_position_limit():
-    # Joint 1 has an upper limit only. q_start a whole turn up (outside the range) makes
-    # the unwrapping put every sample near 6.3 rad: plan.limits sees it, first_violation not.
-    arm = SerialChain.from_dh([DHRow(a=1.0, upper=1.0), DHRow(a=0.5)])
-    motion = timed(Line([1.2, 0.3, 0.0], [1.0, 0.6, 0.0]), "quintic", duration=1.0)
-    plan = to_joint_space(arm, motion, dt=0.01, q_start=[0.2 + 2 * np.pi, 1.2])
+    # Joint 1 has an upper limit only. Closed-form IK does not keep samples in range, so
+    # along this line (elbow negative, polar angle above 1.2 rad) joint 1 stays above 1 rad.
+    plain = Planar2R(1.0, 0.5)
+    joints = [dataclasses.replace(plain.joints[0], upper=1.0), plain.joints[1]]
+
+    class OneSided(Planar2R):
+        def __init__(self) -> None:
+            super().__init__(1.0, 0.5)
+            SerialChain.__init__(self, joints, base=self.base, tool=self.tool, name="one-sided")
+
+    arm = OneSided()
+    motion = timed(Line([0.45, 1.1, 0.0], [0.35, 1.2, 0.0]), "quintic", duration=1.0)
+    plan = to_joint_space(arm, motion, dt=0.01, branch="elbow_negative")
     assert np.all(plan.q[:, 0] > 1.0)
     assert any(v.quantity == "position" and v.joint == 0 for v in plan.limits.violations)
     assert plan.first_violation == (0.0, 0, "position")

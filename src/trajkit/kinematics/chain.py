@@ -276,6 +276,24 @@ class SerialChain:
         return self._revolute.copy()
 
     @property
+    def continuous(self) -> NDArray[np.bool_]:
+        """Per joint: True for a revolute joint without any position limit.
+
+        Only these may be moved by whole turns: the same joint angle modulo 2π.
+        """
+        return self._revolute & np.isinf(self._lower) & np.isinf(self._upper)
+
+    def wrap_near(self, q: ArrayLike, reference: ArrayLike) -> FloatArray:
+        """``q`` with continuous joints moved by whole turns to within π of ``reference``.
+
+        Arrays broadcast against each other, joints on the last axis (rad); the
+        other joints are returned unchanged.
+        """
+        q = np.asarray(q, dtype=np.float64)
+        turns = np.round((q - reference) / (2 * np.pi))
+        return np.where(self.continuous, q - 2 * np.pi * turns, q)
+
+    @property
     def lower(self) -> FloatArray:
         """Lower position limits (rad or m; ``-inf`` for none)."""
         return self._lower.copy()

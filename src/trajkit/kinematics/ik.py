@@ -96,19 +96,12 @@ def _errors(
     chain: SerialChain, q: FloatArray, points: FloatArray, rotations: FloatArray | None
 ) -> tuple[FloatArray, FloatArray]:
     """Stacked error vectors (m, 3 or 6) and Jacobians (m, 3 or 6, ndof)."""
-    tool, jacobian = chain.fk_and_jacobian(q) if q.shape[0] else (None, None)
-    assert tool is not None and jacobian is not None
+    tool, jacobian = chain.fk_and_jacobian(q)
     position_error = points - tool[:, :3, 3]
     if rotations is None:
         return position_error, jacobian[:, :3]
     angle_error = rotation_error(rotations, tool[:, :3, :3])
     return np.concatenate([position_error, angle_error], axis=1), jacobian
-
-
-def _wrap_toward(q: FloatArray, reference: FloatArray, revolute: NDArray[np.bool_]) -> FloatArray:
-    """Move unbounded revolute joints by whole turns to lie within π of ``reference``."""
-    turns = np.round((q - reference) / (2 * np.pi))
-    return np.where(revolute, q - 2 * np.pi * turns, q)
 
 
 def solve_numerical(
@@ -200,7 +193,7 @@ def solve_numerical(
             gradient = np.einsum("mkj,mk->mj", weighted, error)
             step = np.linalg.solve(normal, gradient[..., np.newaxis])[..., 0]
             q[active] = np.clip(qa + step, lower, upper)
-    q_final = _wrap_toward(best_q, seed_copy, chain.revolute & ~bounded)
+    q_final = chain.wrap_near(best_q, seed_copy)
     error = best_error
     position_error = np.linalg.norm(error[:, :3], axis=1)
     orientation_error = np.linalg.norm(error[:, 3:], axis=1) if error.shape[1] == 6 else np.zeros(m)
@@ -224,6 +217,14 @@ def solve_numerical(
             used,
         )
     return IKSolution(q_final, success, position_error, orientation_error, used)
+
+
+def _not_reached(index: int, position_error: float, orientation_error: float) -> UnreachableError:
+    return UnreachableError(
+        f"target {index} is not reached: the closest tool pose found is "
+        f"{position_error:.6g} m and {orientation_error:.6g} rad away",
+        index=index,
+    )
 
 
 def solve_along_path(
@@ -289,12 +290,11 @@ def solve_along_path(
                 chain, array[between], seed, position_only=position_only,
                 tolerance=tolerance, restarts=0, raise_on_failure=False,
             )  # fmt: skip
-            first = int(between[np.argmax(~np.asarray(trial.success))])
-            raise UnreachableError(
-                f"target {first} is not reached: the closest tool pose found is "
-                f"{trial.position_error[first - previous - 1]:.6g} m and "
-                f"{trial.orientation_error[first - previous - 1]:.6g} rad away",
-                index=first,
+            failed = int(np.argmax(~np.asarray(trial.success)))
+            raise _not_reached(
+                int(between[failed]),
+                trial.position_error[failed],
+                trial.orientation_error[failed],
             )
         q_knots[i] = solution.q
         seed = solution.q
@@ -317,7 +317,8 @@ def solve_along_path(
         knot_index, q_knots = finer[ok], np.asarray(batch.q)[ok]
     q = np.array(batch.q)
     success = np.array(batch.success)
-    retried: dict[int, tuple[float, float]] = {}
+    position_error = np.array(batch.position_error)
+    orientation_error = np.array(batch.orientation_error)
     for k in np.flatnonzero(~success):  # rare: targets the interpolated seed did not lead home
         previous = q[k - 1] if k > 0 else seeds[k]
         retry = solve_numerical(
@@ -325,16 +326,7 @@ def solve_along_path(
             restarts=0, raise_on_failure=False,
         )  # fmt: skip
         if not retry.success:
-            raise UnreachableError(
-                f"target {k} is not reached: the closest tool pose found is "
-                f"{retry.position_error:.6g} m and {retry.orientation_error:.6g} rad away",
-                index=int(k),
-            )
-        q[k] = retry.q
-        success[k] = True
-        retried[int(k)] = (float(retry.position_error), float(retry.orientation_error))
-    position_error = np.array(batch.position_error)
-    orientation_error = np.array(batch.orientation_error)
-    for k in retried:
-        position_error[k], orientation_error[k] = retried[k]
+            raise _not_reached(int(k), retry.position_error, retry.orientation_error)
+        q[k], success[k] = retry.q, True
+        position_error[k], orientation_error[k] = retry.position_error, retry.orientation_error
     return IKSolution(q, success, position_error, orientation_error, batch.iterations)

@@ -171,15 +171,6 @@ class AnalyticChain(SerialChain):
             )
         return np.where(fits, shifted, solutions)
 
-    def wrap_near(self, solutions: FloatArray, seeds: FloatArray) -> FloatArray:
-        """Shift unbounded revolute joints of ``solutions`` by whole turns to lie near ``seeds``.
-
-        Arrays broadcast against each other, joints on the last axis (rad).
-        """
-        turns = np.round((solutions - seeds) / (2 * np.pi))
-        unbounded = self._revolute & ~(np.isfinite(self._lower) & np.isfinite(self._upper))
-        return np.where(unbounded, solutions - 2 * np.pi * turns, solutions)
-
     def branch_index(self, branch: int | str) -> int:
         """Index of a branch given by index or by name (see :attr:`branch_names`)."""
         if isinstance(branch, str):

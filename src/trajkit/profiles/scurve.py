@@ -13,6 +13,7 @@ import itertools
 import numpy as np
 from numpy.typing import ArrayLike
 
+from trajkit._periods import whole_periods
 from trajkit._validation import (
     FloatArray,
     count_dof,
@@ -367,7 +368,7 @@ def quantize_scurve(
     per_joint = sync is None
     centers = solution.durations[..., [0, 1, 4, 5]]
     target = solution.own if per_joint else solution.duration
-    steps = np.ceil(np.asarray(target) / dt - 1e-9)
+    steps = whole_periods(target, dt)
     shape = args[0].shape
     durations = np.zeros((*shape, 7))
     jerks = np.zeros((*shape, 7))

@@ -12,6 +12,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
+from trajkit._periods import whole_periods
 from trajkit._validation import (
     FloatArray,
     count_dof,
@@ -391,7 +392,7 @@ def quantize_trapezoid(
     per_joint = sync is None
     centers = solution.times[..., [0, 2]]
     target = solution.own if per_joint else solution.duration
-    steps = np.ceil(target / dt - 1e-9)
+    steps = whole_periods(target, dt)
     shape = args[0].shape
     times = np.zeros((*shape, 3))
     accelerations = np.zeros((*shape, 3))
@@ -721,9 +722,9 @@ def _blend_rule(
     if dt is not None:
         # Whole periods for the duration and the blends; add periods until the
         # rounded blend keeps every joint within its limits.
-        total = float(np.ceil(T / dt - 1e-9) * dt)
+        total = float(whole_periods(T, dt) * dt)
         for _ in range(_MAX_EXTRA_PERIODS):
-            tb = max(float(np.ceil(blend_of(total) / dt - 1e-9) * dt), dt)
+            tb = max(float(whole_periods(blend_of(total), dt) * dt), dt)
             if 2 * tb <= total * (1 + 1e-12):
                 velocity = magnitude / (total - tb)
                 ok = np.all(velocity <= v_limit * (1 + 1e-12)) and (

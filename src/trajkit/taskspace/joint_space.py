@@ -110,16 +110,13 @@ def _targets(task: TaskState, position_only: bool) -> FloatArray:
 
 
 def _unwrap(q: FloatArray, robot: SerialChain, reference: FloatArray | None) -> FloatArray:
-    """Unwrap unbounded revolute joints along time; start within π of ``reference``."""
-    unbounded = robot.revolute & ~(np.isfinite(robot.lower) & np.isfinite(robot.upper))
-    if not unbounded.any():
-        return q
+    """Unwrap continuous joints along time; start within π of ``reference``."""
     out = q.copy()
-    out[:, unbounded] = np.unwrap(q[:, unbounded], axis=0)
-    if reference is not None:
-        turns = np.round((out[0] - reference) / (2 * np.pi))
-        out[:, unbounded] -= 2 * np.pi * turns[unbounded]
-    return out
+    out[:, robot.continuous] = np.unwrap(q[:, robot.continuous], axis=0)
+    if reference is None:
+        return out
+    # Whole turns on continuous joints, zero elsewhere: the whole path moves by them.
+    return out - (out[0] - robot.wrap_near(out[0], reference))
 
 
 def _analytic_ik(
