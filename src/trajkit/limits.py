@@ -12,9 +12,9 @@ from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 
 if TYPE_CHECKING:
-    from trajkit.trajectory import Trajectory
+    from trajkit.trajectory import Extrema, Trajectory
 
-__all__ = ["Bounds", "Limits", "Report", "Violation", "check", "parse_bounds"]
+__all__ = ["Bounds", "Limits", "Report", "Violation", "check", "compare", "parse_bounds"]
 
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 UNIT_SUFFIX = ("", "/s", "/s^2", "/s^3")
@@ -164,7 +164,8 @@ class Violation:
     """The worst excursion of one quantity of one joint past one of its bounds.
 
     ``joint`` counts from 0; ``time`` (s) is where ``value`` occurs; ``bound`` is the
-    limit it passes (the lower bound when ``value`` is below it).
+    limit it passes (the lower bound when ``value`` is below it). ``channel`` names
+    what is checked when it is not a joint ("base", "left wheel"...).
     """
 
     quantity: str
@@ -172,6 +173,7 @@ class Violation:
     time: float
     value: float
     bound: float
+    channel: str = ""
 
     @property
     def excess(self) -> float:
@@ -179,8 +181,9 @@ class Violation:
         return abs(self.value - self.bound)
 
     def __str__(self) -> str:
+        what = self.channel or f"joint {self.joint + 1}"
         return (
-            f"{self.quantity} of joint {self.joint + 1} reaches {self.value:.6g} "
+            f"{self.quantity} of {what} reaches {self.value:.6g} "
             f"at t={self.time:.6g} s, beyond the bound {self.bound:.6g}"
         )
 
@@ -190,12 +193,14 @@ class Report:
     """Outcome of :func:`check`: ``ok`` and the violations, plus the peaks it saw.
 
     ``peaks[quantity]`` is ``(minimum, maximum)`` per joint for every quantity that
-    had a limit; ``bounds[quantity]`` the ``(lower, upper)`` arrays checked against.
+    had a limit; ``bounds[quantity]`` the ``(lower, upper)`` arrays checked against;
+    ``channels[quantity]``, where given, names each entry instead of a joint number.
     """
 
     violations: tuple[Violation, ...]
     peaks: dict[str, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
     bounds: dict[str, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
+    channels: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -208,16 +213,23 @@ class Report:
     def __str__(self) -> str:
         lines = [f"limit check: {'OK' if self.ok else f'{len(self.violations)} violation(s)'}"]
         if self.peaks:
-            header = f"{'quantity':<13}{'joint':>6}{'min':>14}{'max':>14}{'lower':>14}{'upper':>14}"
+            width = max([13, *(len(q) + 1 for q in self.peaks)])
+            names = [n for q in self.peaks for n in self.channels.get(q, ())]
+            column = max([6, *(len(n) + 1 for n in names)])
+            header = (
+                f"{'quantity':<{width}}{'joint' if not names else 'of':>{column}}"
+                f"{'min':>14}{'max':>14}{'lower':>14}{'upper':>14}"
+            )
             lines += [header, "-" * len(header)]
             for quantity, (low, high) in self.peaks.items():
                 lower, upper = self.bounds[quantity]
+                labels = self.channels.get(quantity) or [str(j + 1) for j in range(low.size)]
                 for j in range(low.size):
                     flag = ""
                     if any(v.quantity == quantity and v.joint == j for v in self.violations):
                         flag = "  <-- exceeds"
                     lines.append(
-                        f"{quantity:<13}{j + 1:>6}{low[j]:>14.6g}{high[j]:>14.6g}"
+                        f"{quantity:<{width}}{labels[j]:>{column}}{low[j]:>14.6g}{high[j]:>14.6g}"
                         f"{lower[j]:>14.6g}{upper[j]:>14.6g}{flag}"
                     )
         lines += [f"  {v}" for v in self.violations]
@@ -259,27 +271,33 @@ def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Repo
         found = trajectory.extrema(order)
         peaks[quantity] = (found.minimum, found.maximum)
         checked[quantity] = (lower, upper)
-        finite = np.where(np.isfinite(lower), np.abs(lower), 0.0)
-        slack = tolerance * np.maximum(finite, np.where(np.isfinite(upper), np.abs(upper), 0.0))
-        for j in range(trajectory.ndof):
-            if found.minimum[j] < lower[j] - slack[j]:
-                violations.append(
-                    Violation(
-                        quantity,
-                        j,
-                        float(found.time_of_minimum[j]),
-                        float(found.minimum[j]),
-                        float(lower[j]),
-                    )
-                )
-            if found.maximum[j] > upper[j] + slack[j]:
-                violations.append(
-                    Violation(
-                        quantity,
-                        j,
-                        float(found.time_of_maximum[j]),
-                        float(found.maximum[j]),
-                        float(upper[j]),
-                    )
-                )
+        violations += compare(quantity, found, lower, upper, tolerance)
     return Report(tuple(violations), peaks, checked)
+
+
+def compare(
+    quantity: str,
+    found: Extrema,
+    lower: FloatArray,
+    upper: FloatArray,
+    rtol: float,
+    channels: tuple[str, ...] = (),
+) -> list[Violation]:
+    """The worst violation per entry and side of ``found`` against ``(lower, upper)``.
+
+    A value is a violation when it passes its bound by more than ``rtol`` times the
+    larger finite magnitude of the two bounds. ``channels`` labels the entries
+    (default: joints).
+    """
+    finite = np.where(np.isfinite(lower), np.abs(lower), 0.0)
+    slack = rtol * np.maximum(finite, np.where(np.isfinite(upper), np.abs(upper), 0.0))
+    violations = []
+    for j in range(found.minimum.size):
+        label = channels[j] if channels else ""
+        if found.minimum[j] < lower[j] - slack[j]:
+            time, value = float(found.time_of_minimum[j]), float(found.minimum[j])
+            violations.append(Violation(quantity, j, time, value, float(lower[j]), label))
+        if found.maximum[j] > upper[j] + slack[j]:
+            time, value = float(found.time_of_maximum[j]), float(found.maximum[j])
+            violations.append(Violation(quantity, j, time, value, float(upper[j]), label))
+    return violations

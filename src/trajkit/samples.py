@@ -16,6 +16,7 @@ import numpy as np
 from trajkit._validation import FloatArray, finite_array
 from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import atomic_write
+from trajkit.io.table import write_csv
 
 __all__ = ["Samples"]
 
@@ -121,15 +122,7 @@ class Samples:
         back the same floats bit for bit.
         """
         header, table = self._columns()
-
-        def write(handle: io.BufferedWriter) -> None:
-            text = io.TextIOWrapper(handle, encoding="utf-8", newline="")
-            text.write(",".join(header) + "\n")
-            np.savetxt(text, table, delimiter=",", fmt="%.17g")
-            text.flush()
-            text.detach()
-
-        return atomic_write(path, write)
+        return write_csv(path, header, table)
 
     @classmethod
     def from_csv(cls, path: str | os.PathLike[str]) -> Samples:

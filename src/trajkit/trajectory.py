@@ -295,13 +295,7 @@ class Trajectory:
         """
         from trajkit.samples import Samples
 
-        step = positive_scalar("dt", dt, unit="s")
-        count = int(np.floor(self.duration / step * (1.0 + 1e-12)))
-        times = self.start_time + step * np.arange(count + 1)
-        if self.end_time - times[-1] <= 1e-9 * step:
-            times[-1] = self.end_time
-        else:
-            times = np.append(times, self.end_time)
+        times = sample_times(self.start_time, self.end_time, positive_scalar("dt", dt, unit="s"))
         return Samples(
             t=times,
             q=self.evaluate(times, 0),
@@ -431,6 +425,21 @@ class Trajectory:
         from trajkit.limits import check
 
         return check(self, limits, rtol=rtol)
+
+
+def sample_times(start: float, end: float, step: float) -> FloatArray:
+    """``start + i * step`` up to ``end``, which is always the last time, exactly.
+
+    A grid point within ``1e-9 step`` of the end is moved onto it; otherwise the
+    end is appended and the last interval is shorter.
+    """
+    count = int(np.floor((end - start) / step * (1.0 + 1e-12)))
+    times = start + step * np.arange(count + 1)
+    if end - times[-1] <= 1e-9 * step:
+        times[-1] = end
+    else:
+        times = np.append(times, end)
+    return times
 
 
 def _check_order(order: object) -> None:

@@ -1,0 +1,508 @@
+"""Differential flatness: a unicycle's twist from any smooth path ``(x(t), y(t))``.
+
+The position of a unicycle is a flat output: from it and its derivatives,
+
+    θ = atan2(ẏ, ẋ),   v = √(ẋ² + ẏ²),   ω = (ẋ ÿ − ẏ ẍ) / (ẋ² + ẏ²),
+
+and ``dv/dt``, ``dω/dt`` follow with the third derivatives. Where the speed
+vanishes the heading is undefined: at the ends of the curve it is the limit of
+the direction of travel; inside, :func:`flat_trajectory` refuses the curve
+unless asked to stop and turn in place there, or to drive on in reverse.
+
+Limits on curves are checked on a dense grid (4,001 points per segment plus
+the output's breakpoints) whose extreme points are refined by bounded scalar
+search to about 1e-12 of the segment's duration: a curve is not a polynomial
+in general, so there are no closed-form extrema.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.optimize import minimize_scalar
+
+from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.mobile.limits import QUANTITIES, MobileLimits
+from trajkit.mobile.models import Model, wrap_angle
+from trajkit.mobile.plans import phase_law, resolve_model
+from trajkit.mobile.trajectory import LocalState, MobileTrajectory, Segment, Turn, _channels
+from trajkit.profiles import cubic_spline
+from trajkit.trajectory import Trajectory
+
+__all__ = [
+    "FigureEight",
+    "FlatOutput",
+    "TrajectoryOutput",
+    "flat_trajectory",
+    "spline_output",
+]
+
+Timing = Literal["as_given", "within_limits", "fastest"]
+Stops = Literal["error", "turn", "reverse"]
+
+_GRID = 4001  # grid points per curve segment for stops and extrema
+_STOP = 1e-9  # a speed below this fraction of the peak speed is a stop
+_NEAR_STOP = 1e-3  # below this fraction of the peak speed the stop limits replace the formulas
+_ONE_SIDED = 1e-13  # the series at a stop is taken this fraction of the span inside
+_INWARD = 1e-7  # directions of travel around a stop are read this fraction of the span away
+
+
+class FlatOutput(ABC):
+    """A smooth planar curve in time, ``p(t) = (x(t), y(t))`` for ``t`` in [0, duration]."""
+
+    @property
+    @abstractmethod
+    def duration(self) -> float:
+        """Length of the time interval (s)."""
+
+    @abstractmethod
+    def evaluate(self, t: FloatArray, order: int) -> FloatArray:
+        """The ``order``-th time derivative (any order >= 0) at times ``t`` (n,): (n, 2)."""
+
+    @property
+    def breakpoints(self) -> FloatArray:
+        """Times where a derivative may jump (always includes 0 and the duration)."""
+        return np.array([0.0, self.duration])
+
+
+class FigureEight(FlatOutput):
+    """The figure-eight of seed 002: ``x = W/2 sin(2πt/T)``, ``y = H/2 sin(4πt/T)``.
+
+    Parameters
+    ----------
+    width, height : float
+        Extent W and H of the curve (m), > 0.
+    period : float
+        Time T of one loop (s), > 0.
+    center : array_like
+        Where the curve crosses itself (m).
+    cycles : float
+        How many periods the output lasts (> 0).
+    """
+
+    def __init__(
+        self,
+        width: float,
+        height: float,
+        period: float,
+        *,
+        center: ArrayLike = (0.0, 0.0),
+        cycles: float = 1.0,
+    ) -> None:
+        self.width = positive_scalar("width", width, unit="m")
+        self.height = positive_scalar("height", height, unit="m")
+        self.period = positive_scalar("period", period, unit="s")
+        self.cycles = positive_scalar("cycles", cycles)
+        middle = finite_array("center", center)
+        if middle.shape != (2,):
+            raise InvalidInputError(f"center must be (x, y) in m, got shape {middle.shape}")
+        self.center = np.array(middle)
+
+    @property
+    def duration(self) -> float:  # noqa: D102
+        return self.period * self.cycles
+
+    def evaluate(self, t: FloatArray, order: int) -> FloatArray:  # noqa: D102
+        w = 2.0 * np.pi / self.period
+        shift = order * np.pi / 2.0  # d^k/dt^k sin(c t) = c^k sin(c t + k π/2)
+        x = self.width / 2.0 * w**order * np.sin(w * t + shift)
+        y = self.height / 2.0 * (2.0 * w) ** order * np.sin(2.0 * w * t + shift)
+        out = np.stack([x, y], axis=-1)
+        return out + self.center if order == 0 else out
+
+
+class TrajectoryOutput(FlatOutput):
+    """A 2-DoF :class:`~trajkit.Trajectory` read as ``(x(t), y(t))`` in metres."""
+
+    def __init__(self, trajectory: Trajectory) -> None:
+        if not isinstance(trajectory, Trajectory) or trajectory.ndof != 2:
+            raise InvalidInputError("a flat output trajectory must be a 2-DoF Trajectory (x, y)")
+        if trajectory.duration <= 0.0:
+            raise InvalidInputError("a flat output trajectory must last longer than 0 s")
+        self.trajectory = trajectory
+
+    @property
+    def duration(self) -> float:  # noqa: D102
+        return self.trajectory.duration
+
+    @property
+    def breakpoints(self) -> FloatArray:  # noqa: D102
+        return self.trajectory.breakpoints - self.trajectory.start_time
+
+    def evaluate(self, t: FloatArray, order: int) -> FloatArray:  # noqa: D102
+        return self.trajectory.evaluate(self.trajectory.start_time + t, order)
+
+
+def spline_output(waypoints: ArrayLike, times: ArrayLike | None = None) -> TrajectoryOutput:
+    """A C2 cubic spline through ``waypoints`` (n, 2), at rest at both ends.
+
+    Parameters
+    ----------
+    waypoints : array_like, shape (n, 2)
+        Points (m), n >= 2; consecutive points must differ.
+    times : array_like, shape (n,), optional
+        When each point is passed (s). Default: the cumulative chord length in
+        metres read as seconds (1 m/s on average); :func:`flat_trajectory` with
+        ``timing="fastest"`` then rescales it to the limits.
+    """
+    points = finite_array("waypoints", waypoints)
+    if points.ndim != 2 or points.shape[1] != 2 or points.shape[0] < 2:
+        raise InvalidInputError(
+            f"waypoints must have shape (n, 2) with n >= 2 (x, y in m), got shape {points.shape}"
+        )
+    chords = np.hypot(*np.diff(points, axis=0).T)
+    if np.any(chords == 0.0):
+        i = int(np.flatnonzero(chords == 0.0)[0])
+        raise InvalidInputError(f"waypoints {i} and {i + 1} are the same point")
+    when = np.concatenate([[0.0], np.cumsum(chords)]) if times is None else times
+    return TrajectoryOutput(cubic_spline(when, points, v0=0.0, vf=0.0))
+
+
+def _flat_state(p1: FloatArray, p2: FloatArray, p3: FloatArray, sign: float) -> LocalState:
+    """θ, v, ω, dv/dt, dω/dt from the output's derivatives; ``sign`` -1 drives backwards."""
+    speed2 = np.einsum("ij,ij->i", p1, p1)
+    speed = np.sqrt(speed2)
+    cross = p1[:, 0] * p2[:, 1] - p1[:, 1] * p2[:, 0]
+    dot = np.einsum("ij,ij->i", p1, p2)
+    cross_rate = p1[:, 0] * p3[:, 1] - p1[:, 1] * p3[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        omega = cross / speed2
+        acceleration = sign * dot / speed
+        angular_acceleration = (cross_rate * speed2 - 2.0 * cross * dot) / speed2**2
+    theta = np.arctan2(sign * p1[:, 1], sign * p1[:, 0])
+    return theta, sign * speed, omega, acceleration, angular_acceleration
+
+
+class FlatSegment(Segment):
+    """A piece ``[t_from, t_to]`` of a flat output, slowed by ``scale``, in one direction.
+
+    Local time ``τ`` runs over ``[0, scale (t_to - t_from)]``; the output is read
+    at ``t_from + τ / scale``. ``sign`` -1 drives it backwards; ``heading_near``
+    picks the turn count of the heading at the start (continuity with the previous
+    segment).
+    """
+
+    kind = "flat"
+
+    def __init__(
+        self,
+        output: FlatOutput,
+        t_from: float,
+        t_to: float,
+        scale: float,
+        sign: float,
+        heading_near: float | None,
+    ) -> None:
+        self.output, self.t_from, self.t_to = output, t_from, t_to
+        self.scale, self.sign = scale, sign
+        self.duration = scale * (t_to - t_from)
+        inside = output.breakpoints[(output.breakpoints > t_from) & (output.breakpoints < t_to)]
+        grid = np.union1d(np.linspace(t_from, t_to, _GRID), inside)
+        self._grid = (grid - t_from) * scale  # local times
+        self._theta_grid: FloatArray | None = None
+        self._peak_speed = float(np.linalg.norm(output.evaluate(grid, 1), axis=1).max()) or 1.0
+        raw = self._state(self._grid, unwrap=False)
+        theta = np.unwrap(raw[2])
+        if heading_near is not None:
+            theta += 2.0 * np.pi * np.round((heading_near - theta[0]) / (2.0 * np.pi))
+        self._theta_grid = theta
+        self._table = raw[:2] + (theta,) + raw[3:]
+        self.start_pose = np.array([self._table[0][0], self._table[1][0], theta[0]])
+
+    def _state(self, tau: FloatArray, *, unwrap: bool = True) -> LocalState:
+        k = self.scale
+        t = self.t_from + np.asarray(tau, dtype=float) / k
+        position = self.output.evaluate(t, 0)
+        p1, p2, p3 = (self.output.evaluate(t, order) for order in (1, 2, 3))
+        theta, v, omega, acceleration, angular_acceleration = _flat_state(p1, p2, p3, self.sign)
+        stopped = np.abs(v) <= _NEAR_STOP * self._peak_speed
+        if np.any(stopped):
+            # Formulas divide by the speed: use their limits at (and very near) a stop.
+            leaving = np.where(t[stopped] - self.t_from < (self.t_to - self.t_from) / 2, 1.0, -1.0)
+            near = self._at_stop(t[stopped], leaving)
+            theta[stopped], omega[stopped] = near[0], near[1]
+            acceleration[stopped], angular_acceleration[stopped] = near[2], near[3]
+        if unwrap and self._theta_grid is not None:
+            reference = np.interp(tau, self._grid, self._theta_grid)
+            theta = theta + 2.0 * np.pi * np.round((reference - theta) / (2.0 * np.pi))
+        return (
+            position[:, 0],
+            position[:, 1],
+            theta,
+            v / k,
+            omega / k,
+            acceleration / k**2,
+            angular_acceleration / k**2,
+        )
+
+    def local_state(self, tau: FloatArray) -> LocalState:  # noqa: D102
+        return self._state(tau)
+
+    def _at_stop(self, t: FloatArray, leaving: FloatArray) -> LocalState:
+        """θ, ω, dv/dt and dω/dt where the output (nearly) stops, before time scaling.
+
+        The formulas divide by the speed, so their limits are taken from the Taylor
+        series of ``ṗ`` at the point: ``ṗ ≈ c_m τ^m + c_(m+1) τ^(m+1) + ...``
+        (``m = 1`` for a stop with acceleration, more where it vanishes too).
+        ``ω = (ṗ × p̈) / |ṗ|²`` is then a ratio of two series of the same leading
+        power, whose first two terms give ``ω`` and ``dω/dt``.
+        """
+        # One-sided: a stop at a breakpoint of a piecewise output has two series.
+        near = t + leaving * _ONE_SIDED * (self.t_to - self.t_from)
+        derivatives = np.stack([self.output.evaluate(near, order) for order in range(1, 8)])
+        scale = self._peak_speed / max(self.t_to - self.t_from, 1e-300)
+        out = np.zeros((4, t.size))
+        for i in range(t.size):  # only the few points at a stop
+            out[:, i] = _stop_limit(derivatives[:, i], self.sign * leaving[i], leaving[i], scale)
+        return out[0], out[1], out[2], out[3]
+
+    @property
+    def end_pose(self) -> FloatArray:  # noqa: D102
+        return np.array([self._table[0][-1], self._table[1][-1], self._theta_grid[-1]])
+
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:  # noqa: D102
+        index = (3, 4) if order == 1 else (5, 6)
+
+        def value(tau: FloatArray) -> FloatArray:
+            state = self._state(np.atleast_1d(tau))
+            return cv * state[index[0]] + cw * state[index[1]]
+
+        grid = self._grid
+        values = cv * self._table[index[0]] + cw * self._table[index[1]]
+        result = []
+        for sign in (1.0, -1.0):  # minimum, then maximum
+            i = int(np.argmin(sign * values))
+            lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+            best_t, best = float(grid[i]), float(values[i])
+            if hi > lo:
+                found = minimize_scalar(
+                    lambda x, s=sign: s * float(value(x)[0]),
+                    bounds=(lo, hi),
+                    method="bounded",
+                    options={"xatol": 1e-12 * max(self.duration, 1e-300)},
+                )
+                if sign * found.fun < sign * best:
+                    best_t, best = float(found.x), float(sign * found.fun)
+            result.append((best, best_t))
+        (low, t_low), (high, t_high) = result
+        return low, t_low, high, t_high
+
+
+def _stop_limit(derivatives: FloatArray, direction: float, side: float, scale: float) -> FloatArray:
+    """Heading, ω, dv/dt, dω/dt at a stop from the output's derivatives 1 to 7 there.
+
+    ``direction`` is +1 where the base leaves forwards (or arrives backwards),
+    ``side`` +1 after the stop and -1 before it; ``scale`` (m/s per s) sets what
+    counts as a zero coefficient.
+    """
+    factorials = np.cumprod([1.0, *range(1, derivatives.shape[0])])
+    series = derivatives / factorials[:, np.newaxis]  # ṗ(τ) = Σ series[j] τ^j
+    series[0] = 0.0  # the speed vanishes here by definition
+    size = np.linalg.norm(series, axis=1)
+    nonzero = np.flatnonzero(size > 1e-9 * scale * np.maximum(1.0, np.abs(series).max()))
+    if nonzero.size == 0 or nonzero[0] + 2 >= series.shape[0]:
+        raise InfeasibleError("the flat output rests with no derivative to give a heading")
+    m = int(nonzero[0])
+    rate = series[1:] * np.arange(1, series.shape[0])[:, np.newaxis]  # p̈(τ)
+    numerator = np.convolve(series[:, 0], rate[:, 1]) - np.convolve(series[:, 1], rate[:, 0])
+    denominator = np.convolve(series[:, 0], series[:, 0]) + np.convolve(series[:, 1], series[:, 1])
+    lead = 2 * m  # the leading power of both |ṗ|² and ṗ × p̈ (c_m × c_m vanishes)
+    n0, n1 = numerator[lead], numerator[lead + 1]
+    d0, d1 = denominator[lead], denominator[lead + 1]
+    heading_sign = direction * side ** (m - 1)  # σ side^m: ṗ ≈ c_m τ^m with τ's sign = side
+    theta = np.arctan2(heading_sign * series[m, 1], heading_sign * series[m, 0])
+    dv = direction * np.linalg.norm(series[1]) if m == 1 else 0.0
+    return np.array([theta, n0 / d0, dv, (n1 * d0 - n0 * d1) / d0**2])
+
+
+def _stops(output: FlatOutput) -> tuple[list[float], float]:
+    """Interior times where the output's speed vanishes, and its peak speed (m/s)."""
+    grid = np.union1d(np.linspace(0.0, output.duration, 4 * _GRID), output.breakpoints)
+    speed = np.linalg.norm(output.evaluate(grid, 1), axis=1)
+    peak = float(speed.max())
+    if peak == 0.0:
+        raise InfeasibleError("the flat output never moves: a unicycle's heading is undefined")
+    lows = np.flatnonzero(
+        (speed[1:-1] <= speed[:-2]) & (speed[1:-1] <= speed[2:]) & (speed[1:-1] < 1e-3 * peak)
+    )
+    stops = []
+    for i in lows + 1:
+        found = minimize_scalar(
+            lambda t: float(np.linalg.norm(output.evaluate(np.array([t]), 1))),
+            bounds=(grid[i - 1], grid[i + 1]),
+            method="bounded",
+            options={"xatol": 1e-14 * output.duration},
+        )
+        if found.fun <= _STOP * peak:
+            # Near a breakpoint the search ends a little off it (|ṗ| is flat there):
+            # the stop is at the breakpoint, where the output's pieces meet.
+            closest = output.breakpoints[np.argmin(np.abs(output.breakpoints - found.x))]
+            near = abs(closest - found.x) <= 1e-6 * output.duration
+            stops.append(float(closest if near else found.x))
+    return stops, peak
+
+
+def _direction(output: FlatOutput, t: float, side: float, span: float) -> float:
+    """Direction of travel (rad) just after (``side`` +1) or before (-1) the time ``t``."""
+    p1 = output.evaluate(np.array([t + side * _INWARD * span]), 1)[0]
+    return float(np.arctan2(p1[1], p1[0]))
+
+
+def flat_trajectory(
+    output: FlatOutput | Trajectory,
+    *,
+    model: Model | None = None,
+    limits: MobileLimits | None = None,
+    timing: Timing = "as_given",
+    stops: Stops = "error",
+) -> MobileTrajectory:
+    """Drive a unicycle (or differential drive) along the flat output ``(x(t), y(t))``.
+
+    Parameters
+    ----------
+    output : FlatOutput or Trajectory
+        The curve: :class:`FigureEight`, :func:`spline_output`, any
+        :class:`FlatOutput`, or a 2-DoF Trajectory of ``(x, y)`` in metres.
+    model : Unicycle or DiffDrive, optional
+        Default: a plain unicycle.
+    limits : MobileLimits, optional
+        Default: the model's. Used by ``timing`` and for turns at stops.
+    timing : {"as_given", "within_limits", "fastest"}
+        ``"as_given"`` keeps the output's timing (check the result);
+        ``"within_limits"`` slows it down uniformly, if needed, just enough for
+        every limit to hold; ``"fastest"`` scales it (faster or slower) so the
+        tightest limit is reached.
+    stops : {"error", "turn", "reverse"}
+        Where the speed vanishes inside the curve: raise, stop and turn in place
+        to the new direction (needs angular velocity and acceleration limits),
+        or drive on backwards (where the curve reverses on itself, a cusp).
+
+    Returns
+    -------
+    MobileTrajectory
+        ``info`` holds ``time_scale`` (the uniform slow-down factor), ``stops``
+        (times on the output's own clock) and ``limited_by`` (the limit that set
+        the scale, if any).
+
+    Raises
+    ------
+    InfeasibleError
+        The curve stops inside (with ``stops="error"``, or a stop that reversing
+        cannot pass), never moves, or a timing needs a limit that is missing.
+    InvalidInputError
+        A malformed output or option.
+    """
+    if isinstance(output, Trajectory):
+        output = TrajectoryOutput(output)
+    if not isinstance(output, FlatOutput):
+        raise InvalidInputError(
+            f"output must be a FlatOutput or a 2-DoF Trajectory, got {type(output).__name__}"
+        )
+    if timing not in ("as_given", "within_limits", "fastest"):
+        raise InvalidInputError(
+            f"timing must be 'as_given', 'within_limits' or 'fastest', got {timing!r}"
+        )
+    if stops not in ("error", "turn", "reverse"):
+        raise InvalidInputError(f"stops must be 'error', 'turn' or 'reverse', got {stops!r}")
+    base = resolve_model(model)
+    limits = base.limits if limits is None else limits
+    if not isinstance(limits, MobileLimits):
+        raise InvalidInputError(
+            f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
+        )
+    found, _ = _stops(output)
+    span = output.duration
+    interior = [t for t in found if _INWARD * span * 10 < t < span * (1 - _INWARD * 10)]
+    if interior and stops == "error":
+        raise InfeasibleError(
+            f"the flat output stops at t={interior[0]:.6g} s (its speed vanishes), where a "
+            "unicycle's heading is undefined; pass stops='turn' to stop and turn in place "
+            "there, or stops='reverse' to drive on backwards"
+        )
+    edges = [0.0, *interior, span]
+    signs = [1.0]
+    for t in interior:
+        before, after = _direction(output, t, -1.0, span), _direction(output, t, 1.0, span)
+        jump = float(wrap_angle(after - before))
+        if stops == "reverse":
+            if abs(abs(jump) - np.pi) < 1e-3:
+                signs.append(-signs[-1])
+            elif abs(jump) < 1e-3:
+                signs.append(signs[-1])
+            else:
+                raise InfeasibleError(
+                    f"at t={t:.6g} s the flat output turns by {np.degrees(jump):.4g} deg while "
+                    "stopped; reversing cannot follow it, pass stops='turn'"
+                )
+        else:
+            signs.append(signs[-1])
+
+    def build(scale: float) -> list[Segment]:
+        segments: list[Segment] = []
+        for i, sign in enumerate(signs):
+            heading = segments[-1].end_pose[2] if segments else None
+            curve = FlatSegment(output, edges[i], edges[i + 1], scale, sign, heading)
+            # The curve's heading is the turn count nearest the last: turns go the short way.
+            turn = 0.0 if heading is None else float(curve.start_pose[2] - heading)
+            if stops == "turn" and abs(turn) > 1e-9:
+                law = phase_law(
+                    "turn at a stop", turn, limits.magnitude("angular_velocity"),
+                    limits.magnitude("angular_acceleration"), None, "trapezoid", None, None,
+                    ("rad", "rad/s", "rad/s^2"),
+                )  # fmt: skip
+                segments.append(Turn(segments[-1].end_pose, law))
+            segments.append(curve)
+        return segments
+
+    segments = build(1.0)
+    scale, limited_by = 1.0, None
+    if timing != "as_given":
+        scale, limited_by = _uniform_scale(segments, base, limits)
+        if timing == "within_limits":
+            scale = max(scale, 1.0)
+            limited_by = limited_by if scale > 1.0 else None
+        if scale != 1.0:
+            segments = build(scale)
+    info = {
+        "plan": "flat_output",
+        "time_scale": scale,
+        "stops": tuple(interior),
+        "limited_by": limited_by,
+        "stops_treatment": stops,
+    }
+    return MobileTrajectory(segments, base, info=info)
+
+
+def _uniform_scale(
+    segments: list[Segment], model: Model, limits: MobileLimits
+) -> tuple[float, str | None]:
+    """Slow-down factor at which the curves' tightest limit is just reached.
+
+    Rates (v, ω, wheel speeds) shrink with the factor, accelerations with its
+    square; turns inserted at stops are planned at the limits and do not scale.
+    """
+    curves = [s for s in segments if isinstance(s, FlatSegment)]
+    scale, which = 0.0, None
+    for attribute, quantity, _ in QUANTITIES:
+        bounds = getattr(limits, attribute)
+        if bounds is None:
+            continue
+        order, weights = _channels(attribute, model)
+        for _, cv, cw in weights:
+            for curve in curves:
+                low, _, high, _ = curve.extrema(order, cv, cw)
+                lower, upper = float(bounds.lower), float(bounds.upper)
+                need = max(high / upper if high > 0 else 0.0, low / lower if low < 0 else 0.0)
+                need = need if order == 1 else np.sqrt(need)
+                if need > scale:
+                    scale, which = need, quantity
+    if which is None:
+        raise InfeasibleError(
+            "timing='within_limits' or 'fastest' needs at least one limit on velocity, angular "
+            "velocity, their accelerations or the wheel speeds"
+        )
+    return scale, which

@@ -1,0 +1,323 @@
+"""Kinematic simulation of a wheeled base following a plan, with or without feedback."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit.errors import InvalidInputError
+from trajkit.io.table import write_csv
+from trajkit.mobile.control import (
+    Controller,
+    ControlLaw,
+    Feedforward,
+    nearest_path_distance,
+    saturate,
+)
+from trajkit.mobile.limits import MobileLimits
+from trajkit.mobile.models import DiffDrive, Model, arc_pose, pose_array, rk4_step, wrap_angle
+from trajkit.mobile.trajectory import MobileState, MobileTrajectory
+from trajkit.trajectory import sample_times
+
+__all__ = ["SimulationLog", "simulate"]
+
+_PATH_POINTS = 20_000  # samples of the desired path for the distance-to-path metric
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationLog:
+    """What a simulated run did, sample by sample, and how well it tracked.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Times (s).
+    desired, actual : ndarray, shape (n, 3)
+        Planned and simulated poses ``(x, y, θ)``.
+    desired_twist, commands : ndarray, shape (n, 2)
+        The plan's twist and the (saturated) command sent, ``(v, ω)``.
+    wheel_speeds : ndarray, shape (n, 2), or None
+        Left and right wheel speeds of the commands (rad/s); None for a unicycle.
+    path_distance : ndarray, shape (n,)
+        Distance from the actual position to the desired path, wherever along it (m).
+    controller : str
+        The controller's name.
+    """
+
+    t: FloatArray
+    desired: FloatArray
+    actual: FloatArray
+    desired_twist: FloatArray
+    commands: FloatArray
+    wheel_speeds: FloatArray | None
+    path_distance: FloatArray
+    controller: str
+
+    @property
+    def position_error(self) -> FloatArray:
+        """``|p(t) - p_d(t)|`` at every sample (m): the error against the clock."""
+        return np.hypot(*(self.actual[:, :2] - self.desired[:, :2]).T)
+
+    @property
+    def heading_error(self) -> FloatArray:
+        """``θ(t) - θ_d(t)`` wrapped to [-π, π) (rad)."""
+        return wrap_angle(self.actual[:, 2] - self.desired[:, 2])
+
+    @property
+    def rms_error(self) -> float:
+        """Root mean square of the position error over the samples (m)."""
+        return float(np.sqrt(np.mean(self.position_error**2)))
+
+    @property
+    def max_error(self) -> float:
+        """Largest position error (m)."""
+        return float(self.position_error.max())
+
+    @property
+    def final_position_error(self) -> float:
+        """Position error at the last sample (m)."""
+        return float(self.position_error[-1])
+
+    @property
+    def final_heading_error(self) -> float:
+        """Magnitude of the heading error at the last sample (rad)."""
+        return float(abs(self.heading_error[-1]))
+
+    @property
+    def max_path_distance(self) -> float:
+        """Largest distance from the desired path (m): pure pursuit's measure."""
+        return float(self.path_distance.max())
+
+    def error_after(self, t: float) -> float:
+        """Largest position error from time ``t`` on (m), e.g. once a start offset decayed."""
+        late = self.t >= t
+        if not late.any():
+            raise InvalidInputError(f"no samples at or after t={t:g} s (the log ends at "
+                                    f"{self.t[-1]:g} s)")  # fmt: skip
+        return float(self.position_error[late].max())
+
+    def summary(self) -> str:
+        """One line of the metrics."""
+        return (
+            f"{self.controller}: RMS error {self.rms_error:.3g} m, max {self.max_error:.3g} m, "
+            f"final {self.final_position_error:.3g} m / {np.degrees(self.final_heading_error):.3g}"
+            f" deg, max distance from the path {self.max_path_distance:.3g} m"
+        )
+
+    def to_csv(self, path: str | os.PathLike[str]) -> Path:
+        """Write every sample: time, desired and actual poses, twists and wheel speeds."""
+        header = [
+            "t [s]", "x_desired [m]", "y_desired [m]", "theta_desired [rad]",
+            "x [m]", "y [m]", "theta [rad]", "v_desired [m/s]", "omega_desired [rad/s]",
+            "v_command [m/s]", "omega_command [rad/s]",
+        ]  # fmt: skip
+        columns = [self.t[:, None], self.desired, self.actual, self.desired_twist, self.commands]
+        if self.wheel_speeds is not None:
+            header += ["wheel_left [rad/s]", "wheel_right [rad/s]"]
+            columns.append(self.wheel_speeds)
+        return write_csv(path, header, np.concatenate(columns, axis=1))
+
+
+def _desired_rows(state: MobileState) -> list[tuple[float, ...]]:
+    columns = (state.x, state.y, state.theta, state.v, state.omega,
+               state.acceleration, state.angular_acceleration)  # fmt: skip
+    return list(zip(*(c.tolist() for c in columns), strict=True))
+
+
+def _noise(noise: ArrayLike | None) -> FloatArray | None:
+    if noise is None:
+        return None
+    sigma = finite_array("noise", noise)
+    if sigma.shape != (2,) or np.any(sigma < 0.0):
+        raise InvalidInputError(
+            "noise must be (position_sigma, heading_sigma) in m and rad, both >= 0, "
+            f"got {sigma.tolist()}"
+        )
+    return sigma
+
+
+def simulate(
+    plan: MobileTrajectory,
+    controller: Controller | None = None,
+    *,
+    dt: float = 0.001,
+    initial_pose: ArrayLike | None = None,
+    duration: float | None = None,
+    command_rate_hz: float | None = None,
+    limits: MobileLimits | None = None,
+    noise: ArrayLike | None = None,
+    seed: int | None = None,
+) -> SimulationLog:
+    """Drive the plan's model with a controller and record what happens.
+
+    Parameters
+    ----------
+    plan : MobileTrajectory
+        What to follow; its model is the simulated robot.
+    controller : Controller, optional
+        :class:`Feedforward` (the default), :class:`Kanayama`,
+        :class:`FeedbackLinearization`, :class:`PurePursuit`, or your own.
+    dt : float
+        Integration and logging step (s).
+    initial_pose : array_like, optional
+        Where the robot starts (default: the plan's start pose).
+    duration : float, optional
+        How long to simulate (s); default the plan's duration. After the plan's
+        end the desired state stands still at its last pose.
+    command_rate_hz : float, optional
+        ``None``: the controller acts continuously and the motion is integrated
+        with RK4. A rate: commands are computed at that rate, held in between
+        (like a base controller receiving them) and the motion between them is
+        the exact arc; commands are then also limited in their rate of change by
+        the acceleration limits.
+    limits : MobileLimits, optional
+        Commands are saturated to these (default: the model's).
+    noise : (float, float), optional
+        Standard deviations of the position (m) and heading (rad) measurement
+        noise the controller sees, drawn anew every step.
+    seed : int, optional
+        Seed of the noise generator: the same seed gives the same run.
+
+    Returns
+    -------
+    SimulationLog
+    """
+    if not isinstance(plan, MobileTrajectory):
+        raise InvalidInputError(f"plan must be a MobileTrajectory, got {type(plan).__name__}")
+    controller = Feedforward() if controller is None else controller
+    if not callable(getattr(controller, "law", None)):
+        raise InvalidInputError(
+            f"controller must have a law(plan, start) method, got {type(controller).__name__}"
+        )
+    step = positive_scalar("dt", dt, unit="s")
+    end = plan.duration if duration is None else positive_scalar("duration", duration, unit="s")
+    if end <= 0.0:
+        raise InvalidInputError("the plan has no duration to simulate; pass duration=")
+    start = plan.start_pose if initial_pose is None else pose_array("initial_pose", initial_pose)
+    limits = plan.model.limits if limits is None else limits
+    if not isinstance(limits, MobileLimits):
+        raise InvalidInputError(
+            f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
+        )
+    sigma = _noise(noise)
+    rng = np.random.default_rng(seed)
+    law = controller.law(plan, start)
+    times = sample_times(0.0, end, step)
+    if command_rate_hz is None:
+        actual, commands = _continuous(plan, law, start, times, plan.model, limits, sigma, rng)
+    else:
+        rate = positive_scalar("command_rate_hz", command_rate_hz, unit="Hz")
+        actual, commands = _held(plan, law, start, times, rate, plan.model, limits, sigma, rng)
+    desired = plan.evaluate(times)
+    path = plan.evaluate(np.linspace(0.0, plan.duration, _PATH_POINTS))
+    wheels = None
+    if isinstance(plan.model, DiffDrive):
+        wheels = plan.model.wheel_speeds(commands[:, 0], commands[:, 1])
+    return SimulationLog(
+        t=times,
+        desired=desired.pose,
+        actual=actual,
+        desired_twist=desired.twist,
+        commands=commands,
+        wheel_speeds=wheels,
+        path_distance=nearest_path_distance(np.stack([path.x, path.y], 1), actual[:, :2]),
+        controller=getattr(controller, "name", type(controller).__name__),
+    )
+
+
+def _measured(pose: FloatArray, sigma: FloatArray | None, rng: np.random.Generator) -> FloatArray:
+    if sigma is None:
+        return pose
+    return pose + rng.normal(0.0, [sigma[0], sigma[0], sigma[1]])
+
+
+def _continuous(
+    plan: MobileTrajectory,
+    law: ControlLaw,
+    start: FloatArray,
+    times: FloatArray,
+    model: Model,
+    limits: MobileLimits,
+    sigma: FloatArray | None,
+    rng: np.random.Generator,
+) -> tuple[FloatArray, FloatArray]:
+    """RK4 on ``(x, y, θ, internal)`` with the law evaluated at every stage."""
+    # The desired state at every step's start, middle and end, in one vectorized call.
+    middles = (times[:-1] + times[1:]) / 2.0
+    ends = _desired_rows(plan.evaluate(times))
+    mids = _desired_rows(plan.evaluate(middles))
+    state = np.concatenate([start, law.initial_state])
+    out = np.empty((times.size, 3))
+    commands = np.empty((times.size, 2))
+    for k in range(times.size):  # a closed loop is sequential by nature
+        pose = state[:3]
+        seen = _measured(pose, sigma, rng)
+        law.advance(times[k], seen)
+        v, w, _ = law(times[k], seen, ends[k], state[3:])
+        commands[k] = saturate(v, w, model, limits)
+        out[k] = pose
+        if k == times.size - 1:
+            break
+        offset = seen - pose  # the same measurement error through the step
+        stage_desired = (ends[k], mids[k], ends[k + 1])
+        stage_time = (times[k], middles[k], times[k + 1])
+
+        def rate(stage: int, s: FloatArray) -> FloatArray:
+            measured = s[:3] + offset
+            v, w, internal_rate = law(stage_time[stage], measured, stage_desired[stage], s[3:])  # noqa: B023
+            v, w = saturate(v, w, model, limits)
+            return np.concatenate([[v * np.cos(s[2]), v * np.sin(s[2]), w], internal_rate])
+
+        state = rk4_step(rate, state, float(times[k + 1] - times[k]))
+    return out, commands
+
+
+def _held(
+    plan: MobileTrajectory,
+    law: ControlLaw,
+    start: FloatArray,
+    times: FloatArray,
+    rate_hz: float,
+    model: Model,
+    limits: MobileLimits,
+    sigma: FloatArray | None,
+    rng: np.random.Generator,
+) -> tuple[FloatArray, FloatArray]:
+    """Commands every ``1 / rate_hz`` s, held; exact arcs in between; log on ``times``."""
+    period = 1.0 / rate_hz
+    count = int(np.ceil(times[-1] / period * (1.0 - 1e-12))) + 1
+    command_times = period * np.arange(count)
+    desired = _desired_rows(plan.evaluate(command_times))
+    a_limit, alpha_limit = limits.acceleration, limits.angular_acceleration
+    pose = start.copy()
+    internal = np.array(law.initial_state, dtype=float)
+    held = np.empty((count, 2))
+    poses = np.empty((count, 3))
+    previous = None
+    for k in range(count):  # a closed loop is sequential by nature
+        seen = _measured(pose, sigma, rng)
+        law.advance(command_times[k], seen)
+        v, w, internal_rate = law(command_times[k], seen, desired[k], internal)
+        v, w = saturate(v, w, model, limits)
+        if previous is not None:
+            # A held command can only change as fast as the acceleration limits allow.
+            for index, bounds in ((0, a_limit), (1, alpha_limit)):
+                if bounds is not None:
+                    change = (v, w)[index] - previous[index]
+                    change = min(max(change, float(bounds.lower) * period),
+                                 float(bounds.upper) * period)  # fmt: skip
+                    v, w = (previous[0] + change, w) if index == 0 else (v, previous[1] + change)
+        held[k], poses[k] = (v, w), pose
+        previous = (v, w)
+        internal = internal + period * internal_rate
+        pose = arc_pose(pose, v, w, period)
+    # The motion on the logging grid: the arc from the last command time.
+    which = np.minimum(np.floor(times / period + 1e-9).astype(int), count - 1)
+    since = times - command_times[which]
+    out = arc_pose(poses[which], held[which, 0], held[which, 1], since)
+    return out, held[which]

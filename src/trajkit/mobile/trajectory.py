@@ -1,0 +1,423 @@
+"""The motion of a wheeled base in time: pose, twist and wheel speeds, checked exactly.
+
+A :class:`MobileTrajectory` is a sequence of segments, each one kind of motion:
+a turn in place or a straight drive (a 1-D time law from :mod:`trajkit.profiles`),
+a constant-twist arc, or a flat-output curve (:mod:`trajkit.mobile.flatness`).
+Every plan in :mod:`trajkit.mobile` returns one.
+"""
+
+from __future__ import annotations
+
+import os
+from abc import ABC, abstractmethod
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit.errors import InvalidInputError
+from trajkit.io.table import write_csv
+from trajkit.limits import Report, Violation, compare
+from trajkit.mobile.limits import QUANTITIES, MobileLimits
+from trajkit.mobile.models import DiffDrive, Model, Unicycle, arc_pose, pose_array
+from trajkit.trajectory import Extrema, Trajectory, sample_times
+
+__all__ = ["MobileState", "MobileTrajectory", "Segment"]
+
+
+@dataclass(frozen=True)
+class MobileState:
+    """Pose, twist and twist rates at times ``t`` (each an array of shape ``(n,)``).
+
+    Attributes
+    ----------
+    t : time (s)
+    x, y : position (m)
+    theta : heading (rad), continuous (not wrapped)
+    v, omega : forward speed (m/s) and turn rate (rad/s)
+    acceleration, angular_acceleration : dv/dt (m/s²) and dω/dt (rad/s²)
+    """
+
+    t: FloatArray
+    x: FloatArray
+    y: FloatArray
+    theta: FloatArray
+    v: FloatArray
+    omega: FloatArray
+    acceleration: FloatArray
+    angular_acceleration: FloatArray
+
+    @property
+    def pose(self) -> FloatArray:
+        """``(x, y, θ)`` stacked, shape ``(n, 3)``."""
+        return np.stack([self.x, self.y, self.theta], axis=-1)
+
+    @property
+    def twist(self) -> FloatArray:
+        """``(v, ω)`` stacked, shape ``(n, 2)``."""
+        return np.stack([self.v, self.omega], axis=-1)
+
+    @property
+    def world_velocity(self) -> FloatArray:
+        """``(ẋ, ẏ)`` in the world frame, shape ``(n, 2)``."""
+        return np.stack([self.v * np.cos(self.theta), self.v * np.sin(self.theta)], axis=-1)
+
+
+# The local state of a segment: x, y, θ, v, ω, dv/dt, dω/dt at each local time.
+LocalState = tuple[FloatArray, ...]
+
+
+class Segment(ABC):
+    """One kind of motion over ``[0, duration]`` in local time, from ``start_pose``."""
+
+    kind: str
+    duration: float
+    start_pose: FloatArray
+
+    @abstractmethod
+    def local_state(self, tau: FloatArray) -> LocalState:
+        """``(x, y, θ, v, ω, dv/dt, dω/dt)`` at local times ``tau`` in [0, duration]."""
+
+    @abstractmethod
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
+        """Min, its time, max, its time of ``cv v + cw ω`` (order 1) or of their rates (2).
+
+        Times are local. Exact for the polynomial segments.
+        """
+
+    @property
+    def end_pose(self) -> FloatArray:
+        """The pose at the segment's end."""
+        return np.array([s[0] for s in self.local_state(np.array([self.duration]))[:3]])
+
+
+def _law_extrema(law: Trajectory, order: int, factor: float) -> tuple[float, float, float, float]:
+    """Extrema of ``factor * law^(order)``, exact from the law's polynomial pieces."""
+    if factor == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    found = law.extrema(order)
+    low, t_low = float(found.minimum[0]) * factor, float(found.time_of_minimum[0])
+    high, t_high = float(found.maximum[0]) * factor, float(found.time_of_maximum[0])
+    return (low, t_low, high, t_high) if factor > 0 else (high, t_high, low, t_low)
+
+
+def _one_dof_law(name: str, law: Trajectory) -> Trajectory:
+    if not isinstance(law, Trajectory) or law.ndof != 1:
+        raise InvalidInputError(f"{name} must be a 1-DoF trajkit Trajectory")
+    if law.start_time != 0.0:
+        raise InvalidInputError(f"{name} must start at t=0, got {law.start_time:g} s")
+    return law
+
+
+class Turn(Segment):
+    """Turn in place: ``θ(τ) = θ0 + law(τ) - law(0)``; position fixed, ``v = 0``."""
+
+    kind = "turn"
+
+    def __init__(self, start_pose: ArrayLike, law: Trajectory) -> None:
+        self.start_pose = pose_array("start_pose", start_pose)
+        self.law = _one_dof_law("law", law)
+        self.duration = law.duration
+        self._origin = float(law.position(0.0)[0])
+
+    def local_state(self, tau: FloatArray) -> LocalState:  # noqa: D102
+        x0, y0, theta0 = self.start_pose
+        zero = np.zeros(tau.size)
+        return (
+            zero + x0,
+            zero + y0,
+            theta0 + self.law.position(tau)[:, 0] - self._origin,
+            zero,
+            self.law.velocity(tau)[:, 0],
+            zero,
+            self.law.acceleration(tau)[:, 0],
+        )
+
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:  # noqa: D102
+        return _law_extrema(self.law, order, cw)
+
+
+class Straight(Segment):
+    """Drive straight along the start heading: ``s(τ) = law(τ) - law(0)`` metres."""
+
+    kind = "straight"
+
+    def __init__(self, start_pose: ArrayLike, law: Trajectory) -> None:
+        self.start_pose = pose_array("start_pose", start_pose)
+        self.law = _one_dof_law("law", law)
+        self.duration = law.duration
+        self._origin = float(law.position(0.0)[0])
+
+    def local_state(self, tau: FloatArray) -> LocalState:  # noqa: D102
+        x0, y0, theta0 = self.start_pose
+        s = self.law.position(tau)[:, 0] - self._origin
+        zero = np.zeros(tau.size)
+        return (
+            x0 + s * np.cos(theta0),
+            y0 + s * np.sin(theta0),
+            zero + theta0,
+            self.law.velocity(tau)[:, 0],
+            zero,
+            self.law.acceleration(tau)[:, 0],
+            zero,
+        )
+
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:  # noqa: D102
+        return _law_extrema(self.law, order, cv)
+
+
+class Arc(Segment):
+    """A constant twist ``(v, ω)`` for ``duration``: a circular arc, a line or a spin."""
+
+    kind = "arc"
+
+    def __init__(self, start_pose: ArrayLike, v: float, omega: float, duration: float) -> None:
+        self.start_pose = pose_array("start_pose", start_pose)
+        self.v = float(finite_array("v", v, unit="m/s"))
+        self.omega = float(finite_array("omega", omega, unit="rad/s"))
+        self.duration = positive_scalar("duration", duration, unit="s")
+
+    def local_state(self, tau: FloatArray) -> LocalState:  # noqa: D102
+        pose = arc_pose(self.start_pose, self.v, self.omega, tau)
+        zero = np.zeros(tau.size)
+        return (*pose.T, zero + self.v, zero + self.omega, zero, zero)
+
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:  # noqa: D102
+        value = cv * self.v + cw * self.omega if order == 1 else 0.0
+        return value, 0.0, value, 0.0
+
+
+# Each checked quantity: limit attribute, derivative order, and the (cv, cw) weights of
+# v and ω per channel; wheel weights come from the model.
+def _channels(attribute: str, model: Model) -> tuple[int, list[tuple[str, float, float]]]:
+    if attribute == "wheel_speed":
+        if not isinstance(model, DiffDrive):
+            raise InvalidInputError(
+                "a wheel_speed limit needs a DiffDrive model: a unicycle has no wheels"
+            )
+        r, half = model.wheel_radius, model.effective_track / 2.0
+        return 1, [("left wheel", 1 / r, -half / r), ("right wheel", 1 / r, half / r)]
+    order = 2 if "acceleration" in attribute else 1
+    linear = not attribute.startswith("angular")
+    return order, [("base", 1.0 if linear else 0.0, 0.0 if linear else 1.0)]
+
+
+class MobileTrajectory:
+    """The planned motion of a wheeled base, segment after segment, from ``t = 0``.
+
+    Parameters
+    ----------
+    segments : sequence of Segment
+        Consecutive motions; each must start at the pose the previous one ends in
+        (checked to 1e-9 m and rad).
+    model : Unicycle or DiffDrive
+        The base; wheel speeds need a DiffDrive.
+    info : mapping, optional
+        Plan data a planner attaches (phase times, scaling...). Read-only.
+
+    Notes
+    -----
+    Outside ``[0, duration]`` the base stands still at its first or last pose:
+    the pose is clamped and the twist and its rates are 0.
+    """
+
+    def __init__(
+        self,
+        segments: Sequence[Segment],
+        model: Model,
+        *,
+        info: Mapping[str, Any] | None = None,
+    ) -> None:
+        if not isinstance(model, Unicycle | DiffDrive):
+            raise InvalidInputError(
+                f"model must be a trajkit.mobile Unicycle or DiffDrive, got {type(model).__name__}"
+            )
+        parts = tuple(segments)
+        if not parts or not all(isinstance(s, Segment) for s in parts):
+            raise InvalidInputError("segments must be a non-empty sequence of mobile Segments")
+        for i in range(1, len(parts)):
+            gap = np.abs(parts[i].start_pose - parts[i - 1].end_pose)
+            if gap.max() > 1e-9 * (1.0 + np.abs(parts[i].start_pose).max()):
+                raise InvalidInputError(
+                    f"segment {i} starts at {parts[i].start_pose.round(9).tolist()} but segment "
+                    f"{i - 1} ends at {parts[i - 1].end_pose.round(9).tolist()}"
+                )
+        self._segments = parts
+        self._model = model
+        self._breakpoints = np.concatenate([[0.0], np.cumsum([s.duration for s in parts])])
+        self._breakpoints.setflags(write=False)
+        self._info: Mapping[str, Any] = MappingProxyType(dict(info or {}))
+
+    # ----------------------------------------------------------------- shape
+    @property
+    def segments(self) -> tuple[Segment, ...]:
+        """The consecutive motions."""
+        return self._segments
+
+    @property
+    def model(self) -> Model:
+        """The base this trajectory drives."""
+        return self._model
+
+    @property
+    def breakpoints(self) -> FloatArray:
+        """Segment boundaries (s), shape ``(len(segments) + 1,)``, from 0."""
+        return self._breakpoints
+
+    @property
+    def duration(self) -> float:
+        """Total time (s)."""
+        return float(self._breakpoints[-1])
+
+    @property
+    def start_pose(self) -> FloatArray:
+        """``(x, y, θ)`` at ``t = 0``."""
+        return self._segments[0].start_pose.copy()
+
+    @property
+    def end_pose(self) -> FloatArray:
+        """``(x, y, θ)`` at the end (heading not wrapped)."""
+        return self._segments[-1].end_pose
+
+    @property
+    def info(self) -> Mapping[str, Any]:
+        """Plan data attached by the planner (read-only mapping; may be empty)."""
+        return self._info
+
+    def __repr__(self) -> str:
+        kinds = ", ".join(s.kind for s in self._segments)
+        return f"MobileTrajectory(duration={self.duration:.6g} s, segments=[{kinds}])"
+
+    # ------------------------------------------------------------ evaluation
+    def evaluate(self, t: ArrayLike) -> MobileState:
+        """The state at times ``t`` (s): a number or a 1-D array; arrays of shape (n,)."""
+        times = np.atleast_1d(finite_array("t", t, unit="s"))
+        if times.ndim != 1:
+            raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
+        bp = self._breakpoints
+        clamped = np.clip(times, 0.0, bp[-1])
+        piece = np.clip(np.searchsorted(bp, clamped, side="right") - 1, 0, len(self._segments) - 1)
+        columns = np.empty((7, times.size))
+        for i, segment in enumerate(self._segments):  # a loop over segments, not samples
+            mask = piece == i
+            if mask.any():
+                tau = np.minimum(clamped[mask] - bp[i], segment.duration)
+                columns[:, mask] = np.stack(segment.local_state(tau))
+        outside = (times < 0.0) | (times > bp[-1])
+        columns[3:, outside] = 0.0
+        return MobileState(times, *columns)
+
+    def pose(self, t: ArrayLike) -> FloatArray:
+        """``(x, y, θ)`` at ``t``: shape (3,) for a number, (n, 3) for an array."""
+        pose = self.evaluate(t).pose
+        return pose[0] if np.ndim(t) == 0 else pose
+
+    def twist(self, t: ArrayLike) -> FloatArray:
+        """``(v, ω)`` at ``t``: shape (2,) for a number, (n, 2) for an array."""
+        twist = self.evaluate(t).twist
+        return twist[0] if np.ndim(t) == 0 else twist
+
+    def wheel_speeds(self, t: ArrayLike) -> FloatArray:
+        """Left and right wheel speeds (rad/s) at ``t``; needs a DiffDrive model."""
+        if not isinstance(self._model, DiffDrive):
+            raise InvalidInputError("wheel speeds need a DiffDrive model: a unicycle has no wheels")
+        state = self.evaluate(t)
+        speeds = self._model.wheel_speeds(state.v, state.omega)
+        return speeds[0] if np.ndim(t) == 0 else speeds
+
+    def times(self, dt: float) -> FloatArray:
+        """``0, dt, 2 dt, ...`` and the end time exactly (the last step may be shorter)."""
+        return sample_times(0.0, self.duration, positive_scalar("dt", dt, unit="s"))
+
+    def commands(self, rate_hz: float) -> tuple[FloatArray, FloatArray]:
+        """The twist commands a base controller would be sent at ``rate_hz``.
+
+        Returns the command times ``k / rate_hz`` before the end (s), and the twist
+        ``(v, ω)`` at each, shape (n, 2): what to publish, each held until the next.
+        """
+        period = 1.0 / positive_scalar("rate_hz", rate_hz, unit="Hz")
+        count = max(int(np.ceil(self.duration / period * (1.0 - 1e-12))), 1)
+        times = period * np.arange(count)
+        return times, self.twist(times)
+
+    # ---------------------------------------------------------------- checks
+    def check(self, limits: MobileLimits | None = None, *, rtol: float = 1e-9) -> Report:
+        """Verify speed, turn rate, accelerations and wheel speeds against ``limits``.
+
+        Parameters
+        ----------
+        limits : MobileLimits, optional
+            Default: the model's limits.
+        rtol : float
+            Relative tolerance on each bound (default 1e-9).
+
+        Returns
+        -------
+        Report
+            One violation per quantity, channel and side at most: the worst one.
+            Turns, straight drives and arcs are checked exactly (extrema of their
+            polynomial laws); flat-output curves from a dense grid refined to
+            about 1e-12 s by bounded scalar search (see :mod:`trajkit.mobile.flatness`).
+        """
+        limits = self._model.limits if limits is None else limits
+        if not isinstance(limits, MobileLimits):
+            raise InvalidInputError(
+                f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
+            )
+        tolerance = positive_scalar("rtol", rtol)
+        violations: list[Violation] = []
+        peaks, bounds, channels = {}, {}, {}
+        for attribute, quantity, _ in QUANTITIES:
+            limit = getattr(limits, attribute)
+            if limit is None:
+                continue
+            order, weights = _channels(attribute, self._model)
+            found = self._extrema(order, weights)
+            lower = np.full(len(weights), float(limit.lower))
+            upper = np.full(len(weights), float(limit.upper))
+            names = tuple(name for name, _, _ in weights)
+            peaks[quantity] = (found.minimum, found.maximum)
+            bounds[quantity] = (lower, upper)
+            channels[quantity] = names
+            violations += compare(quantity, found, lower, upper, tolerance, names)
+        return Report(tuple(violations), peaks, bounds, channels)
+
+    def _extrema(self, order: int, weights: list[tuple[str, float, float]]) -> Extrema:
+        values = np.array(
+            [[segment.extrema(order, cv, cw) for segment in self._segments] for _, cv, cw in weights]
+        )  # (channels, segments, 4)
+        starts = self._breakpoints[:-1]
+        low, high = np.argmin(values[..., 0], axis=1), np.argmax(values[..., 2], axis=1)
+        rows = np.arange(len(weights))
+        return Extrema(
+            order=order,
+            minimum=values[rows, low, 0],
+            time_of_minimum=starts[low] + values[rows, low, 1],
+            maximum=values[rows, high, 2],
+            time_of_maximum=starts[high] + values[rows, high, 3],
+        )
+
+    # ----------------------------------------------------------------- files
+    def to_csv(self, path: str | os.PathLike[str], dt: float) -> Path:
+        """Write the state every ``dt`` seconds (and at the end) to a CSV file.
+
+        Columns: time, x, y, theta, v, omega, their rates, and the wheel speeds for
+        a DiffDrive; the header carries the units.
+        """
+        state = self.evaluate(self.times(dt))
+        header = [
+            "t [s]", "x [m]", "y [m]", "theta [rad]", "v [m/s]", "omega [rad/s]",
+            "v_rate [m/s^2]", "omega_rate [rad/s^2]",
+        ]  # fmt: skip
+        columns = [state.t, state.x, state.y, state.theta, state.v, state.omega,
+                   state.acceleration, state.angular_acceleration]  # fmt: skip
+        if isinstance(self._model, DiffDrive):
+            speeds = self._model.wheel_speeds(state.v, state.omega)
+            header += ["wheel_left [rad/s]", "wheel_right [rad/s]"]
+            columns += [speeds[:, 0], speeds[:, 1]]
+        return write_csv(path, header, np.stack(columns, axis=1))
