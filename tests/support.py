@@ -108,3 +108,72 @@ def _piece_derivative(c: np.ndarray, order: int, x: float) -> np.ndarray:
         factor = np.prod(np.arange(power, power - order, -1)) if order else 1.0
         total += c[j] * factor * x ** (power - order)
     return total
+
+
+# Mobile robots ------------------------------------------------------------------
+# Tolerances of trajkit.mobile, on top of the ones above.
+TRACKING = 1e-6  # m: the feedforward alone on the figure eight, RK4 at 1 kHz
+LIMIT_TOUCH = 1e-6  # relative: the tightest peak of a timing="fastest" plan vs its bound
+WORLD_ROUNDING = 1e-12  # relative: poses built from a few trigonometric operations
+EPS = float(np.finfo(float).eps)
+
+# Headings: exact zeros, ±π and its neighbours, any angle, and unwrapped ones.
+headings = st.one_of(
+    st.sampled_from([0.0, np.pi, -np.pi, np.nextafter(np.pi, 0.0), np.nextafter(-np.pi, 0.0)]),
+    st.floats(min_value=np.pi - 1e-6, max_value=np.pi),
+    st.floats(min_value=-np.pi, max_value=-np.pi + 1e-6),
+    st.floats(min_value=-np.pi, max_value=np.pi),
+    st.floats(min_value=-10.0, max_value=10.0),
+)
+coordinates = st.one_of(st.just(0.0), positions)
+
+
+@st.composite
+def poses(draw: st.DrawFn) -> np.ndarray:
+    """Poses (x, y, θ) with exact zeros and headings at and near ±π."""
+    return np.array([draw(coordinates), draw(coordinates), draw(headings)])
+
+
+def heading_difference(actual: np.ndarray, expected: np.ndarray) -> np.ndarray:
+    """|actual - expected| modulo 2π, in [0, π] (rad)."""
+    difference = np.asarray(actual, float) - np.asarray(expected, float)
+    return np.abs(np.remainder(difference + np.pi, 2.0 * np.pi) - np.pi)
+
+
+def assert_heading(actual: np.ndarray, expected: np.ndarray, *, atol: float = CLOSED_FORM) -> None:
+    """Headings agree modulo whole turns, to ``atol`` rad."""
+    error = heading_difference(actual, expected)
+    assert np.all(error <= atol), f"heading error {np.max(error):.3g} rad > {atol:g}"
+
+
+def rk4_constant_twist_bound(v: float, omega: float, h: float, duration: float, scale: float):
+    """Bound on RK4's position error for a constant twist over ``duration`` in steps ``h``.
+
+    With θ linear in t, each RK4 step of ``ẋ = v cos θ`` is Simpson's rule, whose error
+    is ``h⁵ max|f⁗| / 2880`` with ``|f⁗| <= |v| ω⁴``; over ``duration / h`` steps that is
+    ``duration h⁴ |v| ω⁴ / 2880``. Rounding adds a few ulps of ``scale`` (the largest
+    coordinate) per step.
+    """
+    steps = duration / h
+    return duration * h**4 * abs(v) * omega**4 / 2880.0 + 8.0 * steps * EPS * scale
+
+
+def offset_pose(pose: np.ndarray, lateral: float, turn: float) -> np.ndarray:
+    """``pose`` moved ``lateral`` m to its left and turned ``turn`` rad."""
+    x, y, theta = pose
+    return np.array([x - lateral * np.sin(theta), y + lateral * np.cos(theta), theta + turn])
+
+
+def phased_eight(width: float, height: float, period: float, phase: float):
+    """Seed 002's figure eight whose clock starts ``phase`` periods in (a FlatOutput).
+
+    ``phase=0.125`` starts at the top of the right lobe, heading +x, where a lateral
+    offset moves the robot away from the whole curve (not onto its other branch).
+    """
+    from trajkit.mobile import FigureEight
+
+    class PhasedEight(FigureEight):
+        def evaluate(self, t: np.ndarray, order: int) -> np.ndarray:
+            return super().evaluate(np.asarray(t, float) + phase * self.period, order)
+
+    return PhasedEight(width, height, period)

@@ -152,8 +152,14 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
             for suffix in ("", "_dt"):
                 stem = f"seed001_{profile}_{sync}{suffix}"
                 expected |= {f"{stem}.png", f"{stem}.csv"}
-    for stem in ("rotate1", "drive", "rotate2"):
-        expected |= {f"seed000_jackal_{stem}.png", f"seed000_jackal_{stem}.csv"}
+    mobile_stems = [
+        "seed000_jackal_twist_spin", "seed000_jackal_twist_arc",
+        "seed000_jackal_goto", "seed000_jackal_goto_10hz",
+        *(f"seed002_figure8_{name}" for name in
+          ("feedforward", "kanayama", "feedback_linearization", "pure_pursuit")),
+    ]  # fmt: skip
+    for stem in mobile_stems:
+        expected |= {f"{stem}.png", f"{stem}_path.png", f"{stem}.csv"}
     assert set(names) == expected
     assert not [name for name in names if name.startswith(".")]  # no temporaries left
     assert "piece 1: [0, 0, 1.3, -0.8]" in out
@@ -166,8 +172,10 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     assert "trapezoid, sync=phase, continuous: duration 14.6071428571 s, limits OK" in out
     assert "trapezoid, sync=phase, dt 2 ms: duration 14.608 s, limits OK" in out
     assert "scurve, sync=time, dt 2 ms: duration 14.858 s, limits OK" in out
-    assert "drive sqrt(34) m: minimum duration 32.3941772 s" in out
+    assert "drive to the goal: minimum duration 32.3941772 s" in out
     assert "the hand value 32 s breaks the limit" in out
+    assert "ends at (0.286479 m, 1.06915 m, 2.61799 rad)" in out
+    assert "feedback linearization: RMS error" in out
     assert "seed 003 3-DOF arm, cubic line" in out and "OK" in out
     assert "seed 002 two-link arm" in out
     seed000 = tk.Samples.from_csv(out_dir / "seed000_cubic.csv")
@@ -235,3 +243,83 @@ def test_plan_scurve_needs_all_three_limits(capsys):
     status, _, err = run(capsys, "plan", "scurve", "--q0", "0", "--qf", "1", "--vmax", "1")
     assert status == 2
     assert "scurve needs vmax, amax and jmax; missing amax, jmax" in err
+
+
+# --------------------------------------------------------------------- mobile
+
+
+def test_mobile_twist_is_move_jackal(tmp_path, capsys):
+    csv, png, path_png = tmp_path / "t.csv", tmp_path / "t.png", tmp_path / "p.png"
+    status, out, err = run(
+        capsys, "mobile", "twist", "10", "0.1", "10", "15",
+        "--csv", str(csv), "--plot", str(png), "--path-plot", str(path_png),
+    )  # fmt: skip
+    assert status == 0, err
+    assert "constant_twist on jackal: duration 15 s" in out
+    assert "150 commands at 10 Hz" in out
+    assert "limit check: OK" in out
+    table = np.loadtxt(csv, delimiter=",", skiprows=1)
+    radius, turned = 0.1 / np.radians(10), np.radians(150)
+    np.testing.assert_allclose(
+        table[-1, 1:4], [radius * np.sin(turned), radius * (1 - np.cos(turned)), turned],
+        rtol=1e-12, atol=1e-15,
+    )  # fmt: skip
+    assert png.read_bytes()[:4] == b"\x89PNG" and path_png.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_mobile_goto_reproduces_seed000(capsys):
+    status, out, err = run(
+        capsys, "mobile", "goto", "5", "3", "1.5", "--vmax", "0.2", "--wmax-deg", "30",
+        "--blend-ratio", "0.1",
+    )  # fmt: skip
+    assert status == 0, err
+    assert "turn to face the goal: 1.1468058 s" in out
+    assert "drive to the goal: 32.3941772 s" in out
+    assert "turn to the final heading: 2.03629306 s" in out
+    assert "to (5 m, 3 m, 1.5 rad)" in out
+    assert "limit check: OK" in out
+
+
+def test_mobile_figure8_with_a_controller_reports_tracking(capsys, tmp_path):
+    csv = tmp_path / "run.csv"
+    status, out, err = run(
+        capsys, "mobile", "figure8", "--controller", "linearization", "--offset", "0.3", "0",
+        "20", "--dt", "0.01", "--csv", str(csv),
+    )  # fmt: skip
+    assert status == 0, err
+    assert "feedback linearization: RMS error" in out
+    header = csv.read_text().splitlines()[0]
+    assert header.startswith("t [s],x_desired [m]")
+    table = np.loadtxt(csv, delimiter=",", skiprows=1)
+    assert np.hypot(*(table[-1, 4:6] - table[-1, 1:3])) < 1e-6  # converged by the end
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["twist", "10", "0.1", "10", "-1"], "duration must be > 0, got -1 s"),
+        (["twist", "0", "0.1", "10", "1"], "rate_hz must be > 0"),
+        (["goto", "1", "1", "--robot", "unicycle"], "needs wmax"),
+        (["figure8", "--width", "0"], "width must be > 0, got 0 m"),
+        (["figure8", "--plot", "x.txt"], "--plot must end in .png, .svg or .pdf"),
+        (["goto", "nan", "1", "--vmax", "1", "--wmax-deg", "1", "--blend-ratio", "0.1"],
+         "goal must be finite"),
+    ],
+)  # fmt: skip
+def test_mobile_errors_are_one_line(argv, message, capsys):
+    status, out, err = run(capsys, "mobile", *argv)
+    assert status == 2
+    assert message in err
+    assert err.count("\n") == 1
+    assert out == ""
+
+
+def test_mobile_failure_writes_no_file(capsys, tmp_path):
+    csv = tmp_path / "plan.csv"
+    status, _, err = run(
+        capsys, "mobile", "twist", "10", "0.1", "10", "5", "--csv", str(csv),
+        "--plot", str(tmp_path / "missing" / "plot.png"),
+    )  # fmt: skip
+    assert status == 2
+    assert "does not exist" in err
+    assert list(tmp_path.iterdir()) == []

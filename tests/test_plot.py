@@ -151,3 +151,77 @@ def test_arm_bad_input(kwargs, message):
     robot, _, plan = arm_move()
     with pytest.raises(tk.InvalidInputError, match=message):
         tk.plot.arm(robot, plan.trajectory, **kwargs)
+
+
+# ---------------------------------------------------------------------- mobile
+@pytest.fixture(scope="module")
+def drive():
+    from trajkit import mobile
+
+    return mobile.rotate_translate_rotate(
+        (2.0, 1.0, 1.0), vmax=0.5, wmax=1.0, amax=1.0, alpha_max=2.0, model=mobile.jackal()
+    )
+
+
+@pytest.fixture(scope="module")
+def tracked(drive):
+    from trajkit import mobile
+
+    plan = mobile.flat_trajectory(mobile.FigureEight(2.0, 1.0, 20.0))
+    return mobile.simulate(plan, mobile.Kanayama(), dt=0.05, initial_pose=(0.2, -0.1, 0.5))
+
+
+def test_mobile_panels_of_a_plan(drive):
+    figure = tk.plot.mobile(drive, title="goto")
+    axes = figure.get_axes()
+    assert [ax.get_ylabel() for ax in axes] == [
+        "linear velocity [m/s]",
+        "angular velocity [rad/s]",
+        "position [m]",
+        "heading [rad]",
+    ]
+    assert figure._suptitle.get_text() == "goto"
+    heading = axes[3].get_lines()[0]
+    assert heading.get_ydata()[-1] == pytest.approx(1.0, abs=1e-12)
+    # The drive's x velocity peaks at the speed limit times cos(heading).
+    x_speed = axes[0].get_lines()[0].get_ydata()
+    assert x_speed.max() == pytest.approx(0.5 * np.cos(np.arctan2(1.0, 2.0)), rel=1e-9)
+
+
+def test_mobile_panels_of_a_run_draw_planned_and_actual(tracked):
+    axes = tk.plot.mobile(tracked).get_axes()
+    labels = [line.get_label() for line in axes[2].get_lines()]
+    assert labels == ["x planned", "y planned", "x actual", "y actual"]
+    assert [line.get_linestyle() for line in axes[2].get_lines()] == ["--", "--", "-", "-"]
+    np.testing.assert_array_equal(axes[2].get_lines()[2].get_ydata(), tracked.actual[:, 0])
+
+
+def test_mobile_path_draws_the_robot(drive, tracked, tmp_path):
+    figure = tk.plot.mobile_path(drive, robots=5)
+    ax = figure.get_axes()[0]
+    assert len(ax.patches) == 5
+    assert ax.get_xlabel() == "x [m]" and ax.get_ylabel() == "y [m]"
+    # The first triangle's tip points along the start heading (0 rad): to +x.
+    tip = ax.patches[0].get_xy()[0]
+    assert tip[1] == pytest.approx(0.0, abs=1e-12) and tip[0] > 0
+    run = tk.plot.mobile_path(tracked, robots=0)
+    assert [line.get_label() for line in run.get_axes()[0].get_lines()][:2] == [
+        "planned",
+        "actual",
+    ]
+    assert not run.get_axes()[0].patches
+    tk.plot.save(run, tmp_path / "path.png")
+    assert (tmp_path / "path.png").read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda d: tk.plot.mobile("not a plan"), "MobileTrajectory or a SimulationLog"),
+        (lambda d: tk.plot.mobile_path(d, robots=-1), "robots must be an integer >= 0"),
+        (lambda d: tk.plot.mobile(d, width=0), "width must be > 0"),
+    ],
+)
+def test_mobile_plot_bad_input(drive, call, message):
+    with pytest.raises(tk.InvalidInputError, match=message):
+        call(drive)

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 import trajkit
+from trajkit.cli_mobile import add_mobile_commands, run_mobile
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import staged_files
 from trajkit.limits import Limits
@@ -123,6 +124,8 @@ def _build_parser() -> _Parser:
     plan.add_argument("--csv", type=Path, help="write samples (SI units) to this CSV file")
     plan.add_argument("--plot", type=Path, help="write a profile plot (.png, .svg or .pdf)")
 
+    add_mobile_commands(commands)
+
     demo = commands.add_parser("demo", help="run the worked examples and write their outputs")
     demo.add_argument(
         "--out",
@@ -141,7 +144,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return EXIT_USAGE
-        handler: Callable[[argparse.Namespace], int] = {"plan": _plan, "demo": _demo}[args.command]
+        handlers: dict[str, Callable[[argparse.Namespace], int]] = {
+            "plan": _plan,
+            "mobile": run_mobile,
+            "demo": _demo,
+        }
+        handler = handlers[args.command]
         return handler(args)
     except (CommandError, TrajkitError, OSError) as exc:
         message = str(exc).replace("\n", " ")

@@ -12,8 +12,10 @@ from pathlib import Path
 import numpy as np
 
 import trajkit as tk
+from trajkit import mobile
 from trajkit.io.atomic import StagedFiles, staged_files
 from trajkit.kinematics import Planar2R, SerialChain, Spatial3R
+from trajkit.mobile import MobileTrajectory, SimulationLog
 from trajkit.taskspace import Ellipse, JointSpacePlan, Line, TaskTrajectory, timed, to_joint_space
 
 __all__ = ["EXAMPLES", "run"]
@@ -189,31 +191,85 @@ def seed001_six_joint_synchronization(out: Path, stage: StagedFiles, log: Log) -
                 trajectory.sample(0.002).to_csv(stage.path(out / f"{stem}.csv"))
 
 
-def seed000_wheeled_lspb(out: Path, stage: StagedFiles, log: Log) -> None:
-    """Seed 000 §2.1: rotate to face (5, 3), drive there, rotate to 1.5 rad; blend 0.1."""
-    heading = float(np.arctan2(3.0, 5.0))
-    omega, speed = np.radians(30.0), 0.2
-    phases = (
-        ("rotate to face (5, 3)", heading, omega, "rad/s", 1.2),
-        ("drive sqrt(34) m", float(np.sqrt(34.0)), speed, "m/s", 32.0),
-        ("rotate to 1.5 rad", 1.5 - heading, omega, "rad/s", 2.02),
-    )
-    moves = []
-    for name, distance, limit, unit, hand in phases:
-        move = tk.trapezoidal(0.0, distance, limit, blend_ratio=0.1)
-        peak = float(move.extrema(1).peak[0])
-        verdict = "breaks" if hand < move.duration * (1 - 1e-12) else "keeps"
+def _mobile_outputs(
+    out: Path, stage: StagedFiles, stem: str, data: MobileTrajectory | SimulationLog, title: str
+) -> None:
+    """Time panels and the XY path of a plan or a simulated run, and its CSV."""
+    tk.plot.save(tk.plot.mobile(data, title=title), stage.path(out / f"{stem}.png"))
+    tk.plot.save(tk.plot.mobile_path(data, title=title), stage.path(out / f"{stem}_path.png"))
+    if isinstance(data, SimulationLog):
+        data.to_csv(stage.path(out / f"{stem}.csv"))
+    else:
+        data.to_csv(stage.path(out / f"{stem}.csv"), 0.01)
+
+
+def seed000_jackal_twist(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 000 §2.0 (move_jackal): constant twists sent at 10 Hz; the arcs they trace."""
+    robot = mobile.jackal()
+    for stem, v, omega_deg, duration in (("spin", 0.0, -15.0, 10.0), ("arc", 0.1, 10.0, 15.0)):
+        plan = mobile.constant_twist(v, np.radians(omega_deg), duration, rate_hz=10.0, model=robot)
+        x, y, theta = plan.end_pose
         log(
-            f"seed 000 wheeled robot, {name}: minimum duration {move.duration:.9g} s "
-            f"(peak {peak:.6g} {unit} at limit {limit:.6g}); the hand value {hand:g} s "
-            f"{verdict} the limit"
+            f"seed 000 Jackal twist v = {v:g} m/s, ω = {omega_deg:g}°/s for {duration:g} s "
+            f"({plan.info['command_count']} commands at 10 Hz): ends at ({x:.6g} m, {y:.6g} m, "
+            f"{theta:.6g} rad), arc radius {plan.info['radius']:.6g} m; "
+            f"{'within' if plan.check().ok else 'BEYOND'} the Jackal's limits"
         )
-        moves.append(move)
-    for move, (name, *_), stem in zip(moves, phases, ("rotate1", "drive", "rotate2"), strict=True):
-        unit = "m" if stem == "drive" else "rad"
-        figure = tk.plot.profiles(move, unit=unit, names=[stem], title=f"Seed 000: {name}")
-        tk.plot.save(figure, stage.path(out / f"seed000_jackal_{stem}.png"))
-        move.sample(0.01, unit=unit).to_csv(stage.path(out / f"seed000_jackal_{stem}.csv"))
+        title = f"Seed 000: Jackal twist ({v:g} m/s, {omega_deg:g}°/s, {duration:g} s)"
+        _mobile_outputs(out, stage, f"seed000_jackal_twist_{stem}", plan, title)
+
+
+def seed000_jackal_rotate_translate_rotate(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 000 §2.1: rotate to face (5, 3), drive there, rotate to 1.5 rad; blend 0.1."""
+    robot = mobile.jackal()
+    limits = mobile.MobileLimits(velocity=0.2, angular_velocity=np.radians(30.0))
+    plan = mobile.rotate_translate_rotate(
+        (5.0, 3.0, 1.5), vmax=0.2, wmax=np.radians(30.0), blend_ratio=0.1, model=robot
+    )
+    for name, duration, hand in zip(
+        plan.info["phases"], plan.info["phase_durations"], (1.2, 32.0, 2.02), strict=True
+    ):
+        verdict = "breaks" if hand < duration * (1 - 1e-12) else "keeps"
+        log(
+            f"seed 000 Jackal, {name}: minimum duration {duration:.9g} s; the hand value "
+            f"{hand:g} s {verdict} the limit"
+        )
+    x, y, theta = plan.end_pose
+    report = plan.check(limits)
+    log(
+        f"  total {plan.duration:.9g} s, ends at ({x:.6g} m, {y:.6g} m, {theta:.6g} rad); "
+        f"v <= 0.2 m/s and ω <= 30°/s {'hold' if report.ok else 'BROKEN'}"
+    )
+    run = mobile.simulate(plan, dt=0.01, command_rate_hz=10.0)
+    log(f"  the plan's twists sent at 10 Hz and held (zero-order hold): {run.summary()}")
+    _mobile_outputs(out, stage, "seed000_jackal_goto", plan, "Seed 000: rotate, drive, rotate")
+    _mobile_outputs(out, stage, "seed000_jackal_goto_10hz", run, "Seed 000: held at 10 Hz")
+
+
+def seed002_figure_eight(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 002: a turtle on a figure eight by differential flatness, tracked four ways."""
+    robot = mobile.jackal()
+    curve = mobile.FigureEight(2.0, 1.0, 20.0)
+    plan = mobile.flat_trajectory(curve, model=robot)
+    peak = plan.check(mobile.MobileLimits(velocity=1.0, angular_velocity=4.0)).peaks
+    log(
+        f"seed 002 figure eight W = 2 m, H = 1 m, T = 20 s by differential flatness: "
+        f"peak v {peak['velocity'][1][0]:.6g} m/s, peak |ω| "
+        f"{max(-peak['angular velocity'][0][0], peak['angular velocity'][1][0]):.6g} rad/s"
+    )
+    start = plan.start_pose + np.array([0.5 * np.cos(1.0), 0.5 * np.sin(1.0), np.radians(30.0)])
+    log("  tracking from 0.5 m and 30° off the start, RK4 at 200 Hz:")
+    controllers = (
+        mobile.Feedforward(), mobile.Kanayama(), mobile.FeedbackLinearization(),
+        mobile.PurePursuit(),
+    )  # fmt: skip
+    for controller in controllers:
+        run = mobile.simulate(plan, controller, dt=0.005, initial_pose=start)
+        log(f"    {run.summary()}; after 10 s at most {run.error_after(10.0):.3g} m")
+        stem = "seed002_figure8_" + controller.name.replace(" ", "_")
+        _mobile_outputs(out, stage, stem, run, f"Seed 002: figure eight, {controller.name}")
+    exact = mobile.simulate(plan, dt=0.001)
+    log(f"  feedforward from the right pose, RK4 at 1 kHz: max error {exact.max_error:.2g} m")
 
 
 EXAMPLES: tuple[Callable[[Path, StagedFiles, Log], None], ...] = (
@@ -222,7 +278,9 @@ EXAMPLES: tuple[Callable[[Path, StagedFiles, Log], None], ...] = (
     seed003_task_space_line,
     seed002_two_link_tracking,
     seed001_six_joint_synchronization,
-    seed000_wheeled_lspb,
+    seed000_jackal_twist,
+    seed000_jackal_rotate_translate_rotate,
+    seed002_figure_eight,
 )
 
 

@@ -25,9 +25,11 @@ from trajkit.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from trajkit.kinematics.chain import SerialChain
+    from trajkit.mobile.simulate import SimulationLog
+    from trajkit.mobile.trajectory import MobileTrajectory
     from trajkit.taskspace.motion import TaskTrajectory
 
-__all__ = ["arm", "profiles", "save", "task_space"]
+__all__ = ["arm", "mobile", "mobile_path", "profiles", "save", "task_space"]
 
 _QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 _FIELDS = ("q", "qd", "qdd", "qddd")
@@ -247,6 +249,135 @@ def task_space(task: TaskTrajectory, *, title: str | None = None, width: float =
         ax.legend(loc="upper right", fontsize="small", ncol=4)
     axes[-1].set_xlabel("time [s]")
     axes[0].set_title(title or f"task space, {task.duration:.6g} s")
+    return figure
+
+
+def _mobile_series(data: MobileTrajectory | SimulationLog) -> tuple[np.ndarray, dict, dict | None]:
+    """Times, the desired series and (for a simulation log) the actual ones."""
+    from trajkit.mobile.simulate import SimulationLog
+    from trajkit.mobile.trajectory import MobileTrajectory
+
+    if isinstance(data, MobileTrajectory):
+        times = np.union1d(np.linspace(0.0, data.duration, _CURVE_POINTS), data.breakpoints)
+        state = data.evaluate(times)
+        desired = {"pose": state.pose, "twist": state.twist}
+        return times, desired, None
+    if isinstance(data, SimulationLog):
+        desired = {"pose": data.desired, "twist": data.desired_twist}
+        actual = {"pose": data.actual, "twist": data.commands}
+        return data.t, desired, actual
+    raise InvalidInputError(
+        f"data must be a MobileTrajectory or a SimulationLog, got {type(data).__name__}"
+    )
+
+
+def mobile(
+    data: MobileTrajectory | SimulationLog, *, title: str | None = None, width: float = 8.0
+) -> Figure:
+    """Four panels against time, as the coursework draws a wheeled robot's run.
+
+    Linear velocity in the world frame (ẋ, ẏ), angular velocity ω, position
+    (x, y) and heading θ. For a :class:`~trajkit.mobile.SimulationLog` the plan
+    is dashed and the simulated run (commands, actual poses) solid.
+
+    Parameters
+    ----------
+    data : MobileTrajectory or SimulationLog
+    title : str, optional
+    width : float
+        Figure width (inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    times, desired, actual = _mobile_series(data)
+    positive_scalar("width", width)
+    figure = Figure(figsize=(width, 8.8), layout="constrained")
+    axes = figure.subplots(4, 1, sharex=True)
+
+    def world(series: dict) -> np.ndarray:
+        v, theta = series["twist"][:, 0], series["pose"][:, 2]
+        return np.stack([v * np.cos(theta), v * np.sin(theta)], axis=1)
+
+    runs = [("planned", desired, "--" if actual is not None else "-")]
+    if actual is not None:
+        runs.append(("actual", actual, "-"))
+    for label, series, style in runs:
+        velocity = world(series)
+        axes[0].plot(times, velocity[:, 0], style, color="C0", label=f"ẋ {label}")
+        axes[0].plot(times, velocity[:, 1], style, color="C1", label=f"ẏ {label}")
+        axes[1].plot(times, series["twist"][:, 1], style, color="C2", label=f"ω {label}")
+        axes[2].plot(times, series["pose"][:, 0], style, color="C0", label=f"x {label}")
+        axes[2].plot(times, series["pose"][:, 1], style, color="C1", label=f"y {label}")
+        axes[3].plot(times, series["pose"][:, 2], style, color="C3", label=f"θ {label}")
+    for ax, name in zip(
+        axes,
+        ("linear velocity [m/s]", "angular velocity [rad/s]", "position [m]", "heading [rad]"),
+        strict=True,
+    ):
+        ax.set_ylabel(name)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best", fontsize="small", ncols=2)
+    axes[-1].set_xlabel("time [s]")
+    if title:
+        figure.suptitle(title)
+    return figure
+
+
+def mobile_path(
+    data: MobileTrajectory | SimulationLog,
+    *,
+    robots: int = 8,
+    title: str | None = None,
+    size: float = 6.0,
+) -> Figure:
+    """The XY path, planned against actual for a simulation, with the robot drawn.
+
+    Parameters
+    ----------
+    data : MobileTrajectory or SimulationLog
+    robots : int
+        How many times to draw the robot (a triangle pointing along its
+        heading), evenly spaced in time (>= 0).
+    title : str, optional
+    size : float
+        Figure width and height (inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.patches import Polygon
+
+    times, desired, actual = _mobile_series(data)
+    if not isinstance(robots, int) or robots < 0:
+        raise InvalidInputError(f"robots must be an integer >= 0, got {robots!r}")
+    figure = Figure(figsize=(size, size), layout="constrained")
+    ax = figure.add_subplot()
+    pose = desired["pose"]
+    ax.plot(pose[:, 0], pose[:, 1], "--" if actual is not None else "-", color="C0",
+            label="planned")  # fmt: skip
+    drawn = pose if actual is None else actual["pose"]
+    if actual is not None:
+        ax.plot(drawn[:, 0], drawn[:, 1], color="C3", label="actual")
+    extent = np.ptp(np.concatenate([pose[:, :2], drawn[:, :2]]), axis=0).max() or 1.0
+    body = 0.04 * extent
+    if robots:
+        for i in np.linspace(0, len(times) - 1, robots).round().astype(int):
+            x, y, theta = drawn[i]
+            c, s = np.cos(theta), np.sin(theta)
+            corners = np.array([[1.6, 0.0], [-0.8, 0.6], [-0.8, -0.6]]) * body
+            rotated = corners @ np.array([[c, s], [-s, c]]) + [x, y]
+            ax.add_patch(Polygon(rotated, closed=True, facecolor="0.6", edgecolor="black"))
+    ax.plot(*drawn[0, :2], "o", color="green", label="start")
+    ax.plot(*drawn[-1, :2], "s", color="black", label="end")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title(title or f"path, {times[-1]:.6g} s")
     return figure
 
 

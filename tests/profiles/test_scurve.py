@@ -211,3 +211,31 @@ def test_batch_matches_single_problems():
 def test_batch_rejects_asymmetric_limits():
     with pytest.raises(tk.InvalidInputError, match="symmetric magnitudes"):
         tk.batch.scurve(np.zeros((2, 1)), np.ones((2, 1)), (-1, 1), 1, 1)
+
+
+def test_vanishing_time_synchronized_move_stretches_the_faster_joint():
+    # Found by hypothesis: the fixed-duration search underflows for a 3e-220 rad move;
+    # the faster joint then takes its own fastest profile slowed to the common time.
+    distance = 3.02609591e-220
+    tr = tk.scurve(
+        np.zeros(2), np.full(2, distance), vmax=1.0, amax=1.0, jmax=np.array([1.0, 2.0]),
+        sync="time",
+    )  # fmt: skip
+    np.testing.assert_allclose(tr.end_state.position, distance, rtol=support.CLOSED_FORM)
+    own = tr.info["minimum_durations"]
+    assert tr.duration == pytest.approx(max(own), rel=1e-12)
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0, jerk=[1.0, 2.0])).ok
+
+
+@pytest.mark.xfail(
+    strict=True,
+    raises=tk.InfeasibleError,
+    reason="BUG: a joint that stays put but must end at 2e-224 rad/s: the fixed-duration "
+    "search underflows and time sync finds no common duration",
+)
+def test_vanishing_end_velocity_of_a_still_joint():
+    tr = tk.scurve(
+        np.zeros(2), np.array([3.02609591e-220, 0.0]), vmax=1.0, amax=1.0, jmax=1.0,
+        vf=np.array([0.0, 2.28217495e-224]), sync="time",
+    )  # fmt: skip
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0, jerk=1.0)).ok

@@ -5,8 +5,8 @@ and rad/s; wheel speeds in rad/s.
 """
 
 from trajkit.mobile.control import (
-    Controller,
     ControlLaw,
+    Controller,
     FeedbackLinearization,
     Feedforward,
     Kanayama,

@@ -22,10 +22,10 @@ from trajkit.mobile.models import DiffDrive, Model
 from trajkit.mobile.trajectory import MobileTrajectory
 
 __all__ = [
-    "Controller",
     "ControlLaw",
-    "Feedforward",
+    "Controller",
     "FeedbackLinearization",
+    "Feedforward",
     "Kanayama",
     "PurePursuit",
     "saturate",
@@ -263,8 +263,14 @@ def nearest_path_distance(path: FloatArray, points: FloatArray) -> FloatArray:
     """Distance from each of ``points`` (n, 2) to the polyline ``path`` (m, 2), in m.
 
     The nearest vertex is found with a k-d tree, then the point is projected onto
-    the two segments beside it.
+    the two segments beside it. Repeated consecutive vertices (the base standing
+    still, turning in place) are dropped first: a segment of zero length beside the
+    nearest vertex would hide the real one.
     """
+    moves = np.concatenate([[True], np.any(np.diff(path, axis=0) != 0.0, axis=1)])
+    path = path[moves]
+    if len(path) == 1:
+        return np.linalg.norm(points - path[0], axis=1)
     tree = cKDTree(path)
     _, index = tree.query(points)
     best = np.linalg.norm(points - path[index], axis=1)

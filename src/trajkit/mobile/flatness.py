@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
-from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit._validation import FloatArray, finite_array, increasing_times, positive_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.mobile.limits import QUANTITIES, MobileLimits
 from trajkit.mobile.models import Model, wrap_angle
@@ -45,6 +45,7 @@ Timing = Literal["as_given", "within_limits", "fastest"]
 Stops = Literal["error", "turn", "reverse"]
 
 _GRID = 4001  # grid points per curve segment for stops and extrema
+_REFINED_PEAKS = 8  # how many of the grid's best local extrema are refined
 _STOP = 1e-9  # a speed below this fraction of the peak speed is a stop
 _NEAR_STOP = 1e-3  # below this fraction of the peak speed the stop limits replace the formulas
 _ONE_SIDED = 1e-13  # the series at a stop is taken this fraction of the span inside
@@ -158,7 +159,14 @@ def spline_output(waypoints: ArrayLike, times: ArrayLike | None = None) -> Traje
     if np.any(chords == 0.0):
         i = int(np.flatnonzero(chords == 0.0)[0])
         raise InvalidInputError(f"waypoints {i} and {i + 1} are the same point")
-    when = np.concatenate([[0.0], np.cumsum(chords)]) if times is None else times
+    if times is None:
+        when = np.concatenate([[0.0], np.cumsum(chords)])
+    else:
+        when = increasing_times("times", times)
+        if when.size != points.shape[0]:
+            raise InvalidInputError(
+                f"times must give one time per waypoint ({points.shape[0]}), got {when.size}"
+            )
     return TrajectoryOutput(cubic_spline(when, points, v0=0.0, vf=0.0))
 
 
@@ -210,7 +218,7 @@ class FlatSegment(Segment):
         if heading_near is not None:
             theta += 2.0 * np.pi * np.round((heading_near - theta[0]) / (2.0 * np.pi))
         self._theta_grid = theta
-        self._table = raw[:2] + (theta,) + raw[3:]
+        self._table = (*raw[:2], theta, *raw[3:])
         self.start_pose = np.array([self._table[0][0], self._table[1][0], theta[0]])
 
     def _state(self, tau: FloatArray, *, unwrap: bool = True) -> LocalState:
@@ -239,7 +247,7 @@ class FlatSegment(Segment):
             angular_acceleration / k**2,
         )
 
-    def local_state(self, tau: FloatArray) -> LocalState:  # noqa: D102
+    def local_state(self, tau: FloatArray) -> LocalState:
         return self._state(tau)
 
     def _at_stop(self, t: FloatArray, leaving: FloatArray) -> LocalState:
@@ -261,10 +269,10 @@ class FlatSegment(Segment):
         return out[0], out[1], out[2], out[3]
 
     @property
-    def end_pose(self) -> FloatArray:  # noqa: D102
+    def end_pose(self) -> FloatArray:
         return np.array([self._table[0][-1], self._table[1][-1], self._theta_grid[-1]])
 
-    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:  # noqa: D102
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
         index = (3, 4) if order == 1 else (5, 6)
 
         def value(tau: FloatArray) -> FloatArray:
@@ -275,21 +283,34 @@ class FlatSegment(Segment):
         values = cv * self._table[index[0]] + cw * self._table[index[1]]
         result = []
         for sign in (1.0, -1.0):  # minimum, then maximum
-            i = int(np.argmin(sign * values))
-            lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
-            best_t, best = float(grid[i]), float(values[i])
-            if hi > lo:
-                found = minimize_scalar(
-                    lambda x, s=sign: s * float(value(x)[0]),
-                    bounds=(lo, hi),
-                    method="bounded",
-                    options={"xatol": 1e-12 * max(self.duration, 1e-300)},
-                )
-                if sign * found.fun < sign * best:
-                    best_t, best = float(found.x), float(sign * found.fun)
+            best_t, best = float(grid[0]), float(values[0])
+            # Symmetric curves have several near-equal peaks, and the grid may rank
+            # them wrongly: refine the few best local extrema, not just the first.
+            for i in _local_minima(sign * values)[:_REFINED_PEAKS]:
+                lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+                candidate_t, candidate = float(grid[i]), float(values[i])
+                if hi > lo:
+                    found = minimize_scalar(
+                        lambda x, s=sign: s * float(value(x)[0]),
+                        bounds=(lo, hi),
+                        method="bounded",
+                        options={"xatol": 1e-12 * max(self.duration, 1e-300)},
+                    )
+                    if found.fun < sign * candidate:  # found.fun is sign * value
+                        candidate_t, candidate = float(found.x), float(sign * found.fun)
+                if sign * candidate < sign * best:
+                    best_t, best = candidate_t, candidate
             result.append((best, best_t))
         (low, t_low), (high, t_high) = result
         return low, t_low, high, t_high
+
+
+def _local_minima(values: FloatArray) -> FloatArray:
+    """Indices of the grid's local minima (ends included), lowest first."""
+    left = np.concatenate([[True], values[1:] <= values[:-1]])
+    right = np.concatenate([values[:-1] <= values[1:], [True]])
+    found = np.flatnonzero(left & right)
+    return found[np.argsort(values[found], kind="stable")]
 
 
 def _stop_limit(derivatives: FloatArray, direction: float, side: float, scale: float) -> FloatArray:
@@ -337,13 +358,37 @@ def _stops(output: FlatOutput) -> tuple[list[float], float]:
             method="bounded",
             options={"xatol": 1e-14 * output.duration},
         )
-        if found.fun <= _STOP * peak:
+        t, low = _refine_stop(output, float(found.x), float(found.fun), grid[i - 1], grid[i + 1])
+        if low <= _STOP * peak:
             # Near a breakpoint the search ends a little off it (|ṗ| is flat there):
             # the stop is at the breakpoint, where the output's pieces meet.
-            closest = output.breakpoints[np.argmin(np.abs(output.breakpoints - found.x))]
-            near = abs(closest - found.x) <= 1e-6 * output.duration
-            stops.append(float(closest if near else found.x))
+            closest = output.breakpoints[np.argmin(np.abs(output.breakpoints - t))]
+            near = abs(closest - t) <= 1e-6 * output.duration
+            stops.append(float(closest if near else t))
     return stops, peak
+
+
+def _refine_stop(
+    output: FlatOutput, t: float, speed: float, lo: float, hi: float
+) -> tuple[float, float]:
+    """Gauss–Newton steps on ``ṗ(t) = 0`` from a bounded search's ``t`` (s) and ``|ṗ|``.
+
+    The bounded search stops about ``√eps |t|`` from the minimum, where a stop
+    with ``p̈ ≠ 0`` (a cusp, or a stop with deceleration) still has a speed of
+    ``√eps |t| |p̈|``; each step ``t -= (ṗ · p̈) / |p̈|²`` then squares the error.
+    """
+    for _ in range(8):
+        p1 = output.evaluate(np.array([t]), 1)[0]
+        p2 = output.evaluate(np.array([t]), 2)[0]
+        curvature = float(p2 @ p2)
+        if curvature == 0.0:
+            break
+        candidate = min(max(t - float(p1 @ p2) / curvature, lo), hi)
+        lower = float(np.linalg.norm(output.evaluate(np.array([candidate]), 1)))
+        if not lower < speed:
+            break
+        t, speed = candidate, lower
+    return t, speed
 
 
 def _direction(output: FlatOutput, t: float, side: float, span: float) -> float:
@@ -394,7 +439,8 @@ def flat_trajectory(
         The curve stops inside (with ``stops="error"``, or a stop that reversing
         cannot pass), never moves, or a timing needs a limit that is missing.
     InvalidInputError
-        A malformed output or option.
+        A malformed output or option, or ``stops="turn"`` at a stop without the
+        angular velocity and acceleration limits its turn needs.
     """
     if isinstance(output, Trajectory):
         output = TrajectoryOutput(output)
@@ -423,6 +469,15 @@ def flat_trajectory(
             "unicycle's heading is undefined; pass stops='turn' to stop and turn in place "
             "there, or stops='reverse' to drive on backwards"
         )
+    if interior and stops == "turn":
+        missing = [
+            a for a in ("angular_velocity", "angular_acceleration") if getattr(limits, a) is None
+        ]
+        if missing:
+            raise InvalidInputError(
+                f"stops='turn' turns in place at t={interior[0]:.6g} s, which needs limits with "
+                f"{' and '.join(missing)} (rad/s, rad/s^2); got {limits!r}"
+            )
     edges = [0.0, *interior, span]
     signs = [1.0]
     for t in interior:

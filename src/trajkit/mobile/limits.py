@@ -56,9 +56,14 @@ class MobileLimits:
     ) -> None:
         given = (velocity, angular_velocity, acceleration, angular_acceleration, wheel_speed)
         for (attribute, name, _), spec in zip(QUANTITIES, given, strict=True):
-            bounds = spec if isinstance(spec, Bounds) else parse_bounds(name, spec, quantity=name)
+            # Messages name the argument (angular_velocity), not the quantity.
+            bounds = (
+                spec if isinstance(spec, Bounds) else parse_bounds(attribute, spec, quantity=name)
+            )
             if bounds is not None and (bounds.lower.ndim or bounds.upper.ndim):
-                raise InvalidInputError(f"{name} limit must be one number or a (lower, upper) pair")
+                raise InvalidInputError(
+                    f"{attribute} limit must be one number or a (lower, upper) pair"
+                )
             object.__setattr__(self, attribute, bounds)
 
     def replace(self, **changes: LimitSpec) -> MobileLimits:

@@ -55,7 +55,8 @@ class Unicycle:
     Parameters
     ----------
     limits : MobileLimits, optional
-        Default limits for plans and controllers using this model.
+        Default limits for plans and controllers using this model; no wheel
+        speed limit (a unicycle has no wheels).
     name : str
         Label for plots and summaries.
     """
@@ -65,6 +66,11 @@ class Unicycle:
 
     def __post_init__(self) -> None:
         _check_limits(self.limits)
+        if self.limits.wheel_speed is not None:
+            raise InvalidInputError(
+                "limits has a wheel_speed limit, which needs a DiffDrive model: "
+                "a unicycle has no wheels"
+            )
 
 
 def _check_limits(limits: object) -> None:

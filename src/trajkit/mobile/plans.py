@@ -11,7 +11,14 @@ from trajkit._validation import finite_array, finite_scalar, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.mobile.limits import MobileLimits
 from trajkit.mobile.models import DiffDrive, Model, Unicycle, pose_array, wrap_angle
-from trajkit.mobile.trajectory import Arc, MobileTrajectory, Segment, Straight, Turn
+from trajkit.mobile.trajectory import (
+    Arc,
+    MobileTrajectory,
+    Segment,
+    Straight,
+    Turn,
+    command_times,
+)
 from trajkit.profiles import scurve, trapezoidal
 from trajkit.trajectory import Trajectory
 
@@ -83,7 +90,7 @@ def constant_twist(
         "turned": turn_rate * seconds,
         "distance": abs(speed) * seconds,
         "rate_hz": rate,
-        "command_count": None if rate is None else max(int(np.ceil(seconds * rate - 1e-9)), 1),
+        "command_count": None if rate is None else command_times(seconds, rate).size,
     }
     return MobileTrajectory([arc], resolve_model(model), info=info)
 
@@ -98,31 +105,34 @@ def phase_law(
     blend_ratio: float | None,
     dt: float | None,
     units: tuple[str, str, str],
+    names: tuple[str, str, str] = ("a speed limit", "an acceleration limit", "a jerk limit"),
 ) -> Trajectory:
     """The 1-D time law of one phase (a turn or a drive) from 0 to ``distance``.
 
     ``blend_ratio`` selects the coursework's LSPB rule ``t_b = ratio * t_f``
     (shortest duration under ``speed`` and, if given, ``acceleration``);
     otherwise ``profile`` gives the time-optimal trapezoid or S-curve.
-    ``units`` names the position, speed and acceleration units for messages.
+    ``units`` names the position, speed and acceleration units for messages,
+    ``names`` the arguments that give the speed, acceleration and jerk limits.
     """
-    position_unit, speed_unit, acceleration_unit = units
+    _, speed_unit, acceleration_unit = units
+    speed_name, acceleration_name, jerk_name = names
     if speed is None:
-        raise InvalidInputError(f"the {name} needs a speed limit ({speed_unit})")
+        raise InvalidInputError(f"the {name} needs {speed_name} ({speed_unit})")
     if blend_ratio is not None:
         if profile != "trapezoid":
             raise InvalidInputError("blend_ratio describes the LSPB (trapezoid) rule only")
         return trapezoidal(0.0, distance, speed, acceleration, blend_ratio=blend_ratio, dt=dt)
     if acceleration is None:
         raise InvalidInputError(
-            f"the {name} needs an acceleration limit ({acceleration_unit}) for a time-optimal "
+            f"the {name} needs {acceleration_name} ({acceleration_unit}) for a time-optimal "
             f"{profile}, or a blend_ratio"
         )
     if profile == "trapezoid":
         return trapezoidal(0.0, distance, speed, acceleration, dt=dt)
     if profile == "scurve":
         if jerk is None:
-            raise InvalidInputError(f"the {name} needs a jerk limit for an S-curve")
+            raise InvalidInputError(f"the {name} needs {jerk_name} for an S-curve")
         return scurve(0.0, distance, speed, acceleration, jerk, dt=dt)
     raise InvalidInputError(f"profile must be 'trapezoid' or 'scurve', got {profile!r}")
 
@@ -197,6 +207,8 @@ def rotate_translate_rotate(
     InvalidInputError
         Malformed poses or limits, or a limit the profile needs is missing.
     """
+    if profile not in ("trapezoid", "scurve"):
+        raise InvalidInputError(f"profile must be 'trapezoid' or 'scurve', got {profile!r}")
     base = resolve_model(model)
     origin = pose_array("start", start)
     target = finite_array("goal", goal)
@@ -210,17 +222,24 @@ def rotate_translate_rotate(
     a = _limit(amax, limits, "acceleration", "amax", "m/s^2")
     alpha = _limit(alpha_max, limits, "angular_acceleration", "alpha_max", "rad/s^2")
     j = None if jmax is None else positive_scalar("jmax", jmax, unit="m/s^3")
-    wj = None if angular_jmax is None else positive_scalar("angular_jmax", angular_jmax)
+    wj = None
+    if angular_jmax is not None:
+        wj = positive_scalar("angular_jmax", angular_jmax, unit="rad/s^3")
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
     dx, dy = target[0] - origin[0], target[1] - origin[1]
     distance = float(np.hypot(dx, dy))
     plan: list[tuple[str, str, float]] = []  # (kind, label, signed amount)
     facing = float(origin[2])
-    if distance > _NO_MOTION * max(1.0, float(np.abs(target[:2]).max())):
+    scale = max(1.0, float(np.abs(target[:2]).max()), float(np.abs(origin[:2]).max()))
+    if distance > _NO_MOTION * scale:
         heading = float(np.arctan2(dy, dx))
         first = float(wrap_angle(heading - facing))
         if reverse and abs(first) > np.pi / 2:
             first, distance = float(wrap_angle(heading + np.pi - facing)), -distance
+        # A goal ahead up to rounding (a short move's direction is ~eps / distance off)
+        # takes no turn: skipping it misses the goal by less than the rounding itself.
+        if abs(np.sin(first)) * abs(distance) <= _NO_MOTION * scale and abs(first) < np.pi / 2:
+            first = 0.0
         plan += [("turn", "turn to face the goal", first), ("drive", "drive to the goal", distance)]
         facing += first
     else:
@@ -236,10 +255,12 @@ def rotate_translate_rotate(
         if abs(amount) <= _NO_MOTION:
             continue
         if kind == "turn":
-            law = phase_law(label, amount, w, alpha, wj, profile, blend_ratio, step, angular)
+            law = phase_law(label, amount, w, alpha, wj, profile, blend_ratio, step, angular,
+                            ("wmax", "alpha_max", "angular_jmax"))  # fmt: skip
             segment: Segment = Turn(pose, law)
         else:
-            law = phase_law(label, amount, v, a, j, profile, blend_ratio, step, linear)
+            law = phase_law(label, amount, v, a, j, profile, blend_ratio, step, linear,
+                            ("vmax", "amax", "jmax"))  # fmt: skip
             segment = Straight(pose, law)
         segments.append(segment)
         phase_names.append(label)

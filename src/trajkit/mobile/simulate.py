@@ -13,8 +13,8 @@ from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
 from trajkit.mobile.control import (
-    Controller,
     ControlLaw,
+    Controller,
     Feedforward,
     nearest_path_distance,
     saturate,
@@ -129,6 +129,11 @@ def _desired_rows(state: MobileState) -> list[tuple[float, ...]]:
     return list(zip(*(c.tolist() for c in columns), strict=True))
 
 
+def _one_sided(plan: MobileTrajectory, times: FloatArray, side: float) -> list[tuple[float, ...]]:
+    """The desired state just after (``side`` +1) or before (-1) each of ``times``."""
+    return _desired_rows(plan.evaluate(np.nextafter(times, side * np.inf)))
+
+
 def _noise(noise: ArrayLike | None) -> FloatArray | None:
     if noise is None:
         return None
@@ -174,7 +179,7 @@ def simulate(
         with RK4. A rate: commands are computed at that rate, held in between
         (like a base controller receiving them) and the motion between them is
         the exact arc; commands are then also limited in their rate of change by
-        the acceleration limits.
+        the acceleration limits (while the wheels stay within theirs).
     limits : MobileLimits, optional
         Commands are saturated to these (default: the model's).
     noise : (float, float), optional
@@ -249,7 +254,10 @@ def _continuous(
     """RK4 on ``(x, y, θ, internal)`` with the law evaluated at every stage."""
     # The desired state at every step's start, middle and end, in one vectorized call.
     middles = (times[:-1] + times[1:]) / 2.0
-    ends = _desired_rows(plan.evaluate(times))
+    # Each step follows the plan over its own interval: where the twist jumps at a step's
+    # start or end (between arcs, at the plan's end) the step sees the side within it.
+    starts = _one_sided(plan, times[:-1], 1.0) + _desired_rows(plan.evaluate(times[-1:]))
+    ends = [starts[0], *_one_sided(plan, times[1:], -1.0)]
     mids = _desired_rows(plan.evaluate(middles))
     state = np.concatenate([start, law.initial_state])
     out = np.empty((times.size, 3))
@@ -258,23 +266,52 @@ def _continuous(
         pose = state[:3]
         seen = _measured(pose, sigma, rng)
         law.advance(times[k], seen)
-        v, w, _ = law(times[k], seen, ends[k], state[3:])
+        v, w, _ = law(times[k], seen, starts[k], state[3:])
         commands[k] = saturate(v, w, model, limits)
         out[k] = pose
         if k == times.size - 1:
             break
-        offset = seen - pose  # the same measurement error through the step
-        stage_desired = (ends[k], mids[k], ends[k + 1])
-        stage_time = (times[k], middles[k], times[k + 1])
+        stages = (
+            seen - pose,  # the same measurement error through the step
+            (times[k], middles[k], times[k + 1]),
+            (starts[k], mids[k], ends[k + 1]),
+        )
 
-        def rate(stage: int, s: FloatArray) -> FloatArray:
-            measured = s[:3] + offset
-            v, w, internal_rate = law(stage_time[stage], measured, stage_desired[stage], s[3:])  # noqa: B023
+        def rate(stage: int, s: FloatArray, step: tuple = stages) -> FloatArray:
+            offset, when, wanted = step
+            v, w, internal_rate = law(when[stage], s[:3] + offset, wanted[stage], s[3:])
             v, w = saturate(v, w, model, limits)
             return np.concatenate([[v * np.cos(s[2]), v * np.sin(s[2]), w], internal_rate])
 
         state = rk4_step(rate, state, float(times[k + 1] - times[k]))
     return out, commands
+
+
+def _toward(
+    previous: tuple[float, float], command: tuple[float, float], model: Model, limits: MobileLimits
+) -> tuple[float, float]:
+    """The command on the way from ``previous`` to ``command`` nearest it within the wheel limit.
+
+    Limiting ``v`` and ``ω`` to their accelerations one at a time can leave a wheel
+    past its limit: the box spanned by two commands within the wheel limit need not
+    lie within it. Every point of the segment from ``previous`` (within every limit)
+    keeps both acceleration bounds, and the wheel speeds are linear along it.
+    """
+    if not isinstance(model, DiffDrive) or limits.wheel_speed is None:
+        return command
+    lower, upper = float(limits.wheel_speed.lower), float(limits.wheel_speed.upper)
+    fraction = 1.0
+    for before, after in zip(
+        model.wheel_speeds(*previous), model.wheel_speeds(*command), strict=True
+    ):
+        bound = upper if after > upper else lower if after < lower else None
+        if bound is not None:
+            fraction = min(fraction, (bound - before) / (after - before))
+    fraction = min(max(fraction, 0.0), 1.0)
+    return (
+        previous[0] + fraction * (command[0] - previous[0]),
+        previous[1] + fraction * (command[1] - previous[1]),
+    )
 
 
 def _held(
@@ -292,7 +329,10 @@ def _held(
     period = 1.0 / rate_hz
     count = int(np.ceil(times[-1] / period * (1.0 - 1e-12))) + 1
     command_times = period * np.arange(count)
-    desired = _desired_rows(plan.evaluate(command_times))
+    # Each command holds for the period after it (one at the log's end holds nothing).
+    holding = command_times < times[-1]
+    desired = _one_sided(plan, command_times[holding], 1.0)
+    desired += _desired_rows(plan.evaluate(command_times[~holding]))
     a_limit, alpha_limit = limits.acceleration, limits.angular_acceleration
     pose = start.copy()
     internal = np.array(law.initial_state, dtype=float)
@@ -312,6 +352,7 @@ def _held(
                     change = min(max(change, float(bounds.lower) * period),
                                  float(bounds.upper) * period)  # fmt: skip
                     v, w = (previous[0] + change, w) if index == 0 else (v, previous[1] + change)
+            v, w = _toward(previous, (v, w), model, limits)
         held[k], poses[k] = (v, w), pose
         previous = (v, w)
         internal = internal + period * internal_rate

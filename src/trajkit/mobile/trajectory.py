@@ -68,6 +68,17 @@ class MobileState:
         return np.stack([self.v * np.cos(self.theta), self.v * np.sin(self.theta)], axis=-1)
 
 
+def command_times(duration: float, rate_hz: float) -> FloatArray:
+    """Times ``k / rate_hz`` (s) before ``duration``: when commands at that rate are sent.
+
+    At least one (``t = 0``); an end that falls on a command time, up to rounding,
+    gets no command of its own.
+    """
+    period = 1.0 / rate_hz
+    count = max(int(np.ceil(duration / period * (1.0 - 1e-12))), 1)
+    return period * np.arange(count)
+
+
 # The local state of a segment: x, y, θ, v, ω, dv/dt, dω/dt at each local time.
 LocalState = tuple[FloatArray, ...]
 
@@ -125,7 +136,7 @@ class Turn(Segment):
         self.duration = law.duration
         self._origin = float(law.position(0.0)[0])
 
-    def local_state(self, tau: FloatArray) -> LocalState:  # noqa: D102
+    def local_state(self, tau: FloatArray) -> LocalState:
         x0, y0, theta0 = self.start_pose
         zero = np.zeros(tau.size)
         return (
@@ -138,7 +149,7 @@ class Turn(Segment):
             self.law.acceleration(tau)[:, 0],
         )
 
-    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:  # noqa: D102
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
         return _law_extrema(self.law, order, cw)
 
 
@@ -153,7 +164,7 @@ class Straight(Segment):
         self.duration = law.duration
         self._origin = float(law.position(0.0)[0])
 
-    def local_state(self, tau: FloatArray) -> LocalState:  # noqa: D102
+    def local_state(self, tau: FloatArray) -> LocalState:
         x0, y0, theta0 = self.start_pose
         s = self.law.position(tau)[:, 0] - self._origin
         zero = np.zeros(tau.size)
@@ -167,7 +178,7 @@ class Straight(Segment):
             zero,
         )
 
-    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:  # noqa: D102
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
         return _law_extrema(self.law, order, cv)
 
 
@@ -182,12 +193,12 @@ class Arc(Segment):
         self.omega = float(finite_array("omega", omega, unit="rad/s"))
         self.duration = positive_scalar("duration", duration, unit="s")
 
-    def local_state(self, tau: FloatArray) -> LocalState:  # noqa: D102
+    def local_state(self, tau: FloatArray) -> LocalState:
         pose = arc_pose(self.start_pose, self.v, self.omega, tau)
         zero = np.zeros(tau.size)
         return (*pose.T, zero + self.v, zero + self.omega, zero, zero)
 
-    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:  # noqa: D102
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
         value = cv * self.v + cw * self.omega if order == 1 else 0.0
         return value, 0.0, value, 0.0
 
@@ -340,9 +351,7 @@ class MobileTrajectory:
         Returns the command times ``k / rate_hz`` before the end (s), and the twist
         ``(v, ω)`` at each, shape (n, 2): what to publish, each held until the next.
         """
-        period = 1.0 / positive_scalar("rate_hz", rate_hz, unit="Hz")
-        count = max(int(np.ceil(self.duration / period * (1.0 - 1e-12))), 1)
-        times = period * np.arange(count)
+        times = command_times(self.duration, positive_scalar("rate_hz", rate_hz, unit="Hz"))
         return times, self.twist(times)
 
     # ---------------------------------------------------------------- checks
@@ -389,7 +398,7 @@ class MobileTrajectory:
 
     def _extrema(self, order: int, weights: list[tuple[str, float, float]]) -> Extrema:
         values = np.array(
-            [[segment.extrema(order, cv, cw) for segment in self._segments] for _, cv, cw in weights]
+            [[part.extrema(order, cv, cw) for part in self._segments] for _, cv, cw in weights]
         )  # (channels, segments, 4)
         starts = self._breakpoints[:-1]
         low, high = np.argmin(values[..., 0], axis=1), np.argmax(values[..., 2], axis=1)

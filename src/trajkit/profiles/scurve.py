@@ -131,6 +131,7 @@ def _exact(T: FloatArray, args: tuple[FloatArray, ...]) -> smath.SCurvePhases:
                 value[np.broadcast_to(still, shape)] = 0.0
             setattr(phases, name, value)
     fastest = smath.minimum_time(*args)
+    phases = _stretched_where_unsolved(T, phases, fastest, v0, vf)
     at_minimum = (T <= fastest.duration * (1 + 1e-12)) & fastest.valid & ~still
     if not np.any(at_minimum):
         return phases
@@ -142,6 +143,42 @@ def _exact(T: FloatArray, args: tuple[FloatArray, ...]) -> smath.SCurvePhases:
     merged = smath.SCurvePhases(*(pick(name) for name in _FIELDS))
     merged.duration = np.broadcast_to(T, shape).copy()
     return merged
+
+
+_SCALING = {"vp": 1, "tj1": -1, "ta1": -1, "a1": 2, "j1": 3, "tv": -1, "tj2": -1, "ta2": -1,
+            "a2": 2, "j2": 3}  # fmt: skip  # each field divided by k ** power when slowed by k
+
+
+def _stretched_where_unsolved(
+    T: FloatArray,
+    phases: smath.SCurvePhases,
+    fastest: smath.SCurvePhases,
+    v0: FloatArray,
+    vf: FloatArray,
+) -> smath.SCurvePhases:
+    """Rest-to-rest joints the fixed-duration search missed: the fastest profile slowed.
+
+    Slowing a profile by ``k = T / T_min >= 1`` divides its speed by ``k``, its
+    acceleration by ``k²`` and its jerk by ``k³``, so it stays within the limits
+    and covers the same distance. The search can miss such a joint only at the
+    edges of floating point (a move of 1e-220 rad, say).
+    """
+    shape = np.broadcast_shapes(np.shape(phases.valid), np.shape(T))
+    missed = (
+        ~np.broadcast_to(phases.valid, shape) & fastest.valid & (v0 == 0) & (vf == 0)
+        & (T >= fastest.duration)
+    )  # fmt: skip
+    if not np.any(missed):
+        return phases
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.broadcast_to(T, shape) / fastest.duration
+    for name, power in _SCALING.items():
+        slowed = np.broadcast_to(getattr(fastest, name), shape) / k**power
+        kept = np.broadcast_to(getattr(phases, name), shape)
+        setattr(phases, name, np.where(missed, slowed, kept))
+    phases.valid = np.broadcast_to(phases.valid, shape) | missed
+    phases.duration = np.where(missed, np.broadcast_to(T, shape), phases.duration)
+    return phases
 
 
 def solve_scurve(

@@ -1,0 +1,218 @@
+"""``trajkit mobile``: plan, check, simulate and plot a wheeled robot's motion.
+
+Three commands: ``twist`` (seed 000's ``move_jackal``), ``goto`` (its
+rotate–translate–rotate task) and ``figure8`` (seed 002's flat output, tracked
+by a controller). Each prints a summary and writes what ``--csv``, ``--plot``
+and ``--path-plot`` ask for, all together or not at all.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from trajkit.errors import InvalidInputError
+from trajkit.io.atomic import staged_files
+from trajkit.mobile import (
+    MobileLimits,
+    MobileTrajectory,
+    SimulationLog,
+    Unicycle,
+    constant_twist,
+    flat_trajectory,
+    jackal,
+    rotate_translate_rotate,
+    simulate,
+)
+from trajkit.mobile.control import controller_named
+from trajkit.mobile.flatness import FigureEight
+from trajkit.mobile.models import Model
+
+__all__ = ["add_mobile_commands", "describe", "run_mobile"]
+
+ROBOTS: dict[str, Callable[[], Model]] = {"jackal": jackal, "unicycle": Unicycle}
+CONTROLLERS = ("feedforward", "kanayama", "linearization", "pure-pursuit")
+PLOT_SUFFIXES = {".png", ".svg", ".pdf"}
+
+
+def _outputs(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--robot", choices=sorted(ROBOTS), default="jackal",
+                        help="base model and its default limits (default jackal)")  # fmt: skip
+    parser.add_argument("--csv", type=Path, help="write the samples (SI units) to this CSV file")
+    parser.add_argument("--plot", type=Path, help="velocities, position, heading against time")
+    parser.add_argument("--path-plot", type=Path, help="the XY path with the robot drawn")
+    parser.add_argument("--dt", type=float, default=0.01,
+                        help="sampling / simulation step in s (default 0.01)")  # fmt: skip
+
+
+def add_mobile_commands(commands: argparse._SubParsersAction) -> None:
+    """Register ``trajkit mobile twist|goto|figure8``."""
+    mobile = commands.add_parser(
+        "mobile", help="plan and simulate a wheeled robot's motion",
+        description="Wheeled robots: a constant twist, a move to a pose, a figure eight.",
+    )  # fmt: skip
+    kinds = mobile.add_subparsers(dest="mobile_command", metavar="MOTION")
+    kinds.required = True
+
+    twist = kinds.add_parser("twist", help="drive one twist for a while (move_jackal)")
+    twist.add_argument("rate_hz", type=float, help="command rate (Hz)")
+    twist.add_argument("v", type=float, help="forward speed (m/s)")
+    twist.add_argument("omega_deg", type=float, help="turn rate (deg/s)")
+    twist.add_argument("duration", type=float, help="how long (s)")
+    _outputs(twist)
+
+    goto = kinds.add_parser("goto", help="rotate, drive straight, rotate to a pose")
+    goto.add_argument("x", type=float, help="goal x (m)")
+    goto.add_argument("y", type=float, help="goal y (m)")
+    goto.add_argument("theta", type=float, nargs="?", help="final heading (rad), optional")
+    goto.add_argument("--start", type=float, nargs=3, metavar=("X", "Y", "THETA"),
+                      default=(0.0, 0.0, 0.0), help="start pose (m, m, rad)")  # fmt: skip
+    goto.add_argument("--vmax", type=float, help="speed limit (m/s)")
+    goto.add_argument("--wmax-deg", type=float, help="turn-rate limit (deg/s)")
+    goto.add_argument("--amax", type=float, help="acceleration limit (m/s^2)")
+    goto.add_argument("--alpha-max-deg", type=float, help="angular acceleration limit (deg/s^2)")
+    goto.add_argument("--jmax", type=float, help="jerk limit (m/s^3), scurve only")
+    goto.add_argument("--angular-jmax-deg", type=float, help="angular jerk limit (deg/s^3)")
+    goto.add_argument("--profile", choices=["trapezoid", "scurve"], default="trapezoid")
+    goto.add_argument(
+        "--blend-ratio", type=float, help="the LSPB rule t_b = ratio * t_f per phase (e.g. 0.1)"
+    )
+    goto.add_argument("--reverse", action="store_true", help="drive backwards to goals behind")
+    _outputs(goto)
+
+    eight = kinds.add_parser("figure8", help="follow a figure eight by differential flatness")
+    eight.add_argument("--width", type=float, default=2.0, help="W (m), default 2")
+    eight.add_argument("--height", type=float, default=1.0, help="H (m), default 1")
+    eight.add_argument("--period", type=float, default=20.0, help="T (s), default 20")
+    eight.add_argument("--controller", choices=CONTROLLERS, default="feedforward")
+    eight.add_argument("--offset", type=float, nargs=3, metavar=("DX", "DY", "DTHETA_DEG"),
+                       default=(0.0, 0.0, 0.0),
+                       help="start this far from the curve's start (m, m, deg)")  # fmt: skip
+    eight.add_argument("--vmax", type=float, help="speed limit (m/s)")
+    eight.add_argument("--wmax-deg", type=float, help="turn-rate limit (deg/s)")
+    eight.add_argument("--fit", action="store_true",
+                       help="slow the curve down uniformly until every limit holds")  # fmt: skip
+    eight.add_argument(
+        "--rate-hz", type=float, help="send held commands at this rate (default: continuous)"
+    )
+    _outputs(eight)
+
+
+def _limits(model: Model, args: argparse.Namespace) -> MobileLimits:
+    changes = {}
+    if getattr(args, "vmax", None) is not None:
+        changes["velocity"] = args.vmax
+    if getattr(args, "wmax_deg", None) is not None:
+        changes["angular_velocity"] = np.radians(args.wmax_deg)
+    if getattr(args, "amax", None) is not None:
+        changes["acceleration"] = args.amax
+    if getattr(args, "alpha_max_deg", None) is not None:
+        changes["angular_acceleration"] = np.radians(args.alpha_max_deg)
+    return model.limits.replace(**changes)
+
+
+def describe(plan: MobileTrajectory, limits: MobileLimits | None = None) -> str:
+    """A few lines about a plan: what it is, where it goes, and its limit check."""
+    info = plan.info
+    start, end = plan.start_pose, plan.end_pose
+    lines = [
+        f"{info.get('plan', 'mobile plan')} on {plan.model.name}: duration {plan.duration:.9g} s, "
+        f"from ({start[0]:.6g} m, {start[1]:.6g} m, {start[2]:.6g} rad) to "
+        f"({end[0]:.6g} m, {end[1]:.6g} m, {end[2]:.6g} rad)"
+    ]
+    for name, duration in zip(info.get("phases", ()), info.get("phase_durations", ()), strict=True):
+        lines.append(f"  {name}: {duration:.9g} s")
+    if info.get("plan") == "constant_twist":
+        line = (
+            f"  arc radius {info['radius']:.6g} m, turned {info['turned']:.6g} rad, "
+            f"{info['distance']:.6g} m along the path"
+        )
+        if info.get("rate_hz"):
+            line += f", {info['command_count']} commands at {info['rate_hz']:g} Hz"
+        lines.append(line)
+    if info.get("plan") == "flat_output":
+        line = f"  time scale {info['time_scale']:.6g}"
+        if info.get("limited_by"):
+            line += f" (set by the {info['limited_by']} limit)"
+        lines.append(line)
+    report = plan.check(limits)
+    lines += ["  " + line for line in str(report).splitlines()]
+    return "\n".join(lines)
+
+
+def _check_suffix(path: Path | None, flag: str) -> None:
+    if path is not None and path.suffix.lower() not in PLOT_SUFFIXES:
+        raise InvalidInputError(f"{flag} must end in .png, .svg or .pdf, got {path.name!r}")
+
+
+def _write(
+    args: argparse.Namespace, plan: MobileTrajectory, log: SimulationLog | None, title: str
+) -> list[Path]:
+    with staged_files() as stage:
+        if args.csv is not None:
+            if log is None:
+                plan.to_csv(stage.path(args.csv), args.dt)
+            else:
+                log.to_csv(stage.path(args.csv))
+        if args.plot is not None or args.path_plot is not None:
+            from trajkit import plot
+
+            data = plan if log is None else log
+            if args.plot is not None:
+                plot.save(plot.mobile(data, title=title), stage.path(args.plot))
+            if args.path_plot is not None:
+                plot.save(plot.mobile_path(data, title=title), stage.path(args.path_plot))
+    return stage.targets
+
+
+def run_mobile(args: argparse.Namespace) -> int:
+    """Carry out one ``trajkit mobile`` command; returns the exit status."""
+    _check_suffix(args.plot, "--plot")
+    _check_suffix(args.path_plot, "--path-plot")
+    model = ROBOTS[args.robot]()
+    limits = _limits(model, args)
+    log = None
+    if args.mobile_command == "twist":
+        plan = constant_twist(
+            args.v, np.radians(args.omega_deg), args.duration, rate_hz=args.rate_hz, model=model
+        )
+        title = f"twist v = {args.v:g} m/s, ω = {args.omega_deg:g} deg/s, {args.duration:g} s"
+    elif args.mobile_command == "goto":
+        goal = (args.x, args.y) if args.theta is None else (args.x, args.y, args.theta)
+        plan = rotate_translate_rotate(
+            goal,
+            args.start,
+            vmax=limits.magnitude("velocity"),
+            wmax=limits.magnitude("angular_velocity"),
+            amax=limits.magnitude("acceleration"),
+            alpha_max=limits.magnitude("angular_acceleration"),
+            jmax=args.jmax,
+            angular_jmax=None if args.angular_jmax_deg is None
+            else np.radians(args.angular_jmax_deg),
+            profile=args.profile,
+            blend_ratio=args.blend_ratio,
+            reverse=args.reverse,
+            model=model,
+        )  # fmt: skip
+        title = f"rotate, drive, rotate to {goal}"
+    else:
+        output = FigureEight(args.width, args.height, args.period)
+        plan = flat_trajectory(
+            output, model=model, limits=limits, timing="within_limits" if args.fit else "as_given"
+        )
+        dx, dy, dtheta = args.offset
+        start = plan.start_pose + np.array([dx, dy, np.radians(dtheta)])
+        log = simulate(
+            plan, controller_named(args.controller), dt=args.dt, initial_pose=start,
+            command_rate_hz=args.rate_hz, limits=limits,
+        )  # fmt: skip
+        title = f"figure eight {args.width:g} m x {args.height:g} m, {args.controller}"
+    print(describe(plan, limits))
+    if log is not None:
+        print(f"tracking ({args.dt:g} s steps): {log.summary()}")
+    for path in _write(args, plan, log, title):
+        print(f"wrote {path}")
+    return 0

@@ -1,0 +1,1 @@
+"""Tests of trajkit.mobile: a package, since its module names repeat some in tests/."""
