@@ -265,7 +265,10 @@ def seed002_figure_eight(out: Path, stage: StagedFiles, log: Log) -> None:
     )  # fmt: skip
     for controller in controllers:
         run = mobile.simulate(plan, controller, dt=0.005, initial_pose=start)
-        log(f"    {run.summary()}; after 10 s at most {run.error_after(10.0):.3g} m")
+        log(
+            f"    {run.summary()}; after 10 s at most {run.error_after(10.0):.3g} m "
+            f"({run.error_after(10.0, along_path=True):.3g} m from the path)"
+        )
         stem = "seed002_figure8_" + controller.name.replace(" ", "_")
         _mobile_outputs(out, stage, stem, run, f"Seed 002: figure eight, {controller.name}")
     exact = mobile.simulate(plan, dt=0.001)

@@ -146,7 +146,7 @@ def test_kanayama_law_is_the_formula(pose, target, vd, wd):
 
 
 def test_kanayama_by_hand():
-    law = Kanayama().law(figure_eight_plan(), np.zeros(3))
+    law = Kanayama(kx=1.0, ky=6.0, ktheta=3.0).law(figure_eight_plan(), np.zeros(3))
     # The target is 1 m ahead and 0.5 m to the left, turned 0.2 rad, of a robot at the origin.
     v, omega, _ = law(0.0, np.zeros(3), (1.0, 0.5, 0.2, 0.8, 0.1, 0.0, 0.0), law.initial_state)
     assert v == pytest.approx(0.8 * math.cos(0.2) + 1.0, rel=CLOSED_FORM)

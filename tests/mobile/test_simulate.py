@@ -393,3 +393,31 @@ def test_plan_must_be_a_mobile_trajectory():
     assert isinstance(
         simulate(constant_twist(0.1, 0.0, 0.5, model=Unicycle()), dt=0.5), SimulationLog
     )
+
+
+def test_a_unicycle_plan_driven_on_a_base_whose_wheels_saturate():
+    import trajkit.mobile as m
+
+    plan = m.flat_trajectory(m.FigureEight(2.0, 1.0, 10.0))  # a bare unicycle: no limits
+    base = m.DiffDrive(0.1, 0.4, wheel_speed_limit=5.0)
+    free = m.simulate(plan, m.Kanayama(), dt=0.01)
+    run = m.simulate(plan, m.Kanayama(), dt=0.01, model=base)
+    assert free.wheel_speeds is None
+    assert np.abs(run.wheel_speeds).max() <= 5.0 * (1 + 1e-12)
+    # The plan needs up to 7.4 rad/s on these wheels: saturation makes the robot lag.
+    assert np.abs(base.wheel_speeds(*plan.twist(np.linspace(0, 10, 2001)).T)).max() > 7.0
+    assert free.max_error < 1e-8 < 1e-3 < run.max_error  # RK4 at 100 Hz: ~1e-9 m
+    with pytest.raises(InvalidInputError, match=r"model must be a trajkit\.mobile"):
+        m.simulate(plan, model="jackal")
+
+
+def test_error_after_against_the_clock_or_along_the_path():
+    import trajkit.mobile as m
+
+    plan = m.flat_trajectory(m.FigureEight(2.0, 1.0, 20.0))
+    run = m.simulate(plan, m.PurePursuit(), dt=0.02)
+    late = run.t >= 10.0
+    assert run.error_after(10.0) == run.position_error[late].max()
+    assert run.error_after(10.0, along_path=True) == run.path_distance[late].max()
+    # Pure pursuit follows the path, not the clock: it lags far more than it strays.
+    assert run.error_after(10.0, along_path=True) < 0.05 < run.error_after(10.0)

@@ -111,9 +111,9 @@ class Kanayama:
         Heading gain (1/m).
     """
 
-    kx: float = 1.0
-    ky: float = 6.0
-    ktheta: float = 3.0
+    kx: float = 2.0
+    ky: float = 16.0
+    ktheta: float = 6.0
     name: str = "kanayama"
 
     def __post_init__(self) -> None:

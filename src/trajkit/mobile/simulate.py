@@ -21,6 +21,7 @@ from trajkit.mobile.control import (
 )
 from trajkit.mobile.limits import MobileLimits
 from trajkit.mobile.models import DiffDrive, Model, arc_pose, pose_array, rk4_step, wrap_angle
+from trajkit.mobile.plans import resolve_model
 from trajkit.mobile.trajectory import MobileState, MobileTrajectory
 from trajkit.trajectory import sample_times
 
@@ -44,7 +45,9 @@ class SimulationLog:
     wheel_speeds : ndarray, shape (n, 2), or None
         Left and right wheel speeds of the commands (rad/s); None for a unicycle.
     path_distance : ndarray, shape (n,)
-        Distance from the actual position to the desired path, wherever along it (m).
+        Distance from the actual position to the desired path, wherever along it (m),
+        measured on a polyline of 20,000 points of the path: accurate to its sagitta
+        (about 2e-8 m on a few metres of gently curved path).
     controller : str
         The controller's name.
     """
@@ -93,13 +96,18 @@ class SimulationLog:
         """Largest distance from the desired path (m): pure pursuit's measure."""
         return float(self.path_distance.max())
 
-    def error_after(self, t: float) -> float:
-        """Largest position error from time ``t`` on (m), e.g. once a start offset decayed."""
+    def error_after(self, t: float, *, along_path: bool = False) -> float:
+        """Largest error from time ``t`` on (m), e.g. once a start offset has decayed.
+
+        The position error against the clock, or with ``along_path`` the distance
+        from the path (for a path follower such as pure pursuit, which may lag).
+        """
         late = self.t >= t
         if not late.any():
             raise InvalidInputError(f"no samples at or after t={t:g} s (the log ends at "
                                     f"{self.t[-1]:g} s)")  # fmt: skip
-        return float(self.position_error[late].max())
+        error = self.path_distance if along_path else self.position_error
+        return float(error[late].max())
 
     def summary(self) -> str:
         """One line of the metrics."""
@@ -154,16 +162,17 @@ def simulate(
     initial_pose: ArrayLike | None = None,
     duration: float | None = None,
     command_rate_hz: float | None = None,
+    model: Model | None = None,
     limits: MobileLimits | None = None,
     noise: ArrayLike | None = None,
     seed: int | None = None,
 ) -> SimulationLog:
-    """Drive the plan's model with a controller and record what happens.
+    """Drive a robot with a controller along a plan and record what happens.
 
     Parameters
     ----------
     plan : MobileTrajectory
-        What to follow; its model is the simulated robot.
+        What to follow.
     controller : Controller, optional
         :class:`Feedforward` (the default), :class:`Kanayama`,
         :class:`FeedbackLinearization`, :class:`PurePursuit`, or your own.
@@ -180,8 +189,11 @@ def simulate(
         (like a base controller receiving them) and the motion between them is
         the exact arc; commands are then also limited in their rate of change by
         the acceleration limits (while the wheels stay within theirs).
+    model : Unicycle or DiffDrive, optional
+        The simulated robot (default: the plan's model); e.g. a plan made for a
+        bare unicycle, driven on a base whose wheels saturate.
     limits : MobileLimits, optional
-        Commands are saturated to these (default: the model's).
+        Commands are saturated to these (default: the simulated model's).
     noise : (float, float), optional
         Standard deviations of the position (m) and heading (rad) measurement
         noise the controller sees, drawn anew every step.
@@ -204,7 +216,8 @@ def simulate(
     if end <= 0.0:
         raise InvalidInputError("the plan has no duration to simulate; pass duration=")
     start = plan.start_pose if initial_pose is None else pose_array("initial_pose", initial_pose)
-    limits = plan.model.limits if limits is None else limits
+    robot = plan.model if model is None else resolve_model(model)
+    limits = robot.limits if limits is None else limits
     if not isinstance(limits, MobileLimits):
         raise InvalidInputError(
             f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
@@ -214,15 +227,15 @@ def simulate(
     law = controller.law(plan, start)
     times = sample_times(0.0, end, step)
     if command_rate_hz is None:
-        actual, commands = _continuous(plan, law, start, times, plan.model, limits, sigma, rng)
+        actual, commands = _continuous(plan, law, start, times, robot, limits, sigma, rng)
     else:
         rate = positive_scalar("command_rate_hz", command_rate_hz, unit="Hz")
-        actual, commands = _held(plan, law, start, times, rate, plan.model, limits, sigma, rng)
+        actual, commands = _held(plan, law, start, times, rate, robot, limits, sigma, rng)
     desired = plan.evaluate(times)
     path = plan.evaluate(np.linspace(0.0, plan.duration, _PATH_POINTS))
     wheels = None
-    if isinstance(plan.model, DiffDrive):
-        wheels = plan.model.wheel_speeds(commands[:, 0], commands[:, 1])
+    if isinstance(robot, DiffDrive):
+        wheels = robot.wheel_speeds(commands[:, 0], commands[:, 1])
     return SimulationLog(
         t=times,
         desired=desired.pose,

@@ -117,24 +117,30 @@ def _law_extrema(law: Trajectory, order: int, factor: float) -> tuple[float, flo
     return (low, t_low, high, t_high) if factor > 0 else (high, t_high, low, t_low)
 
 
-def _one_dof_law(name: str, law: Trajectory) -> Trajectory:
-    if not isinstance(law, Trajectory) or law.ndof != 1:
-        raise InvalidInputError(f"{name} must be a 1-DoF trajkit Trajectory")
-    if law.start_time != 0.0:
-        raise InvalidInputError(f"{name} must start at t=0, got {law.start_time:g} s")
-    return law
+class _LawSegment(Segment):
+    """A turn or a drive along a 1-D time law (a 1-DoF Trajectory starting at t = 0)."""
+
+    turning: bool  # the law moves θ (a turn) or the distance along the heading (a drive)
+
+    def __init__(self, start_pose: ArrayLike, law: Trajectory) -> None:
+        if not isinstance(law, Trajectory) or law.ndof != 1:
+            raise InvalidInputError("law must be a 1-DoF trajkit Trajectory")
+        if law.start_time != 0.0:
+            raise InvalidInputError(f"law must start at t=0, got {law.start_time:g} s")
+        self.start_pose = pose_array("start_pose", start_pose)
+        self.law = law
+        self.duration = law.duration
+        self._origin = float(law.position(0.0)[0])
+
+    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
+        return _law_extrema(self.law, order, cw if self.turning else cv)
 
 
-class Turn(Segment):
+class Turn(_LawSegment):
     """Turn in place: ``θ(τ) = θ0 + law(τ) - law(0)``; position fixed, ``v = 0``."""
 
     kind = "turn"
-
-    def __init__(self, start_pose: ArrayLike, law: Trajectory) -> None:
-        self.start_pose = pose_array("start_pose", start_pose)
-        self.law = _one_dof_law("law", law)
-        self.duration = law.duration
-        self._origin = float(law.position(0.0)[0])
+    turning = True
 
     def local_state(self, tau: FloatArray) -> LocalState:
         x0, y0, theta0 = self.start_pose
@@ -149,20 +155,12 @@ class Turn(Segment):
             self.law.acceleration(tau)[:, 0],
         )
 
-    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
-        return _law_extrema(self.law, order, cw)
 
-
-class Straight(Segment):
+class Straight(_LawSegment):
     """Drive straight along the start heading: ``s(τ) = law(τ) - law(0)`` metres."""
 
     kind = "straight"
-
-    def __init__(self, start_pose: ArrayLike, law: Trajectory) -> None:
-        self.start_pose = pose_array("start_pose", start_pose)
-        self.law = _one_dof_law("law", law)
-        self.duration = law.duration
-        self._origin = float(law.position(0.0)[0])
+    turning = False
 
     def local_state(self, tau: FloatArray) -> LocalState:
         x0, y0, theta0 = self.start_pose
@@ -177,9 +175,6 @@ class Straight(Segment):
             self.law.acceleration(tau)[:, 0],
             zero,
         )
-
-    def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
-        return _law_extrema(self.law, order, cv)
 
 
 class Arc(Segment):
