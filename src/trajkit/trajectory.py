@@ -427,13 +427,27 @@ class Trajectory:
         return check(self, limits, rtol=rtol)
 
 
+MAX_SAMPLES = 100_000_000  # more would not fit in memory several times over: refused
+
+
+def sample_count(span: float, step: float, name: str = "dt") -> int:
+    """``floor(span / step)`` (up to rounding), refusing grids beyond :data:`MAX_SAMPLES`."""
+    ratio = span / step
+    if not ratio < MAX_SAMPLES:
+        raise InvalidInputError(
+            f"{name}={step:g} s over {span:g} s gives {ratio:.3g} samples; at most "
+            f"{MAX_SAMPLES:.0e} are made: use a longer {name}"
+        )
+    return int(np.floor(ratio * (1.0 + 1e-12)))
+
+
 def sample_times(start: float, end: float, step: float) -> FloatArray:
     """``start + i * step`` up to ``end``, which is always the last time, exactly.
 
     A grid point within ``1e-9 step`` of the end is moved onto it; otherwise the
     end is appended and the last interval is shorter.
     """
-    count = int(np.floor((end - start) / step * (1.0 + 1e-12)))
+    count = sample_count(end - start, step)
     times = start + step * np.arange(count + 1)
     if end - times[-1] <= 1e-9 * step:
         times[-1] = end

@@ -132,7 +132,8 @@ def kanayama_reference(pose, desired, kx, ky, ktheta):
     ex = math.cos(theta) * (xd - x) + math.sin(theta) * (yd - y)
     ey = -math.sin(theta) * (xd - x) + math.cos(theta) * (yd - y)
     eth = math.atan2(math.sin(thd - theta), math.cos(thd - theta))
-    return vd * math.cos(eth) + kx * ex, wd + vd * (ky * ey + ktheta * math.sin(eth))
+    # |v_d| on the heading term: the law stays stable driving backwards.
+    return vd * math.cos(eth) + kx * ex, wd + vd * ky * ey + abs(vd) * ktheta * math.sin(eth)
 
 
 @given(support.poses(), support.poses(), st.floats(-2.0, 2.0), st.floats(-2.0, 2.0))
@@ -156,6 +157,9 @@ def test_kanayama_by_hand():
     assert on_target[:2] == (0.5, 0.4)
     _, omega, _ = law(0.0, np.array([0.0, 0.0, -3.1]), (0.0, 0.0, 3.1, 1.0, 0.0, 0, 0), np.zeros(0))
     assert omega == pytest.approx(3.0 * math.sin(6.2 - 2 * math.pi), rel=CLOSED_FORM)
+    # Backwards the heading term keeps its sign, the cross-track term follows v_d.
+    _, omega, _ = law(0.0, np.zeros(3), (0.0, 0.5, 0.2, -0.8, 0.0, 0.0, 0.0), np.zeros(0))
+    assert omega == pytest.approx(-0.8 * 6.0 * 0.5 + 0.8 * 3.0 * math.sin(0.2), rel=CLOSED_FORM)
 
 
 # Feedback linearization -------------------------------------------------------------

@@ -594,3 +594,39 @@ def test_timing_needs_a_limit(timing):
         r"one limit",
     ):
         flat_trajectory(EIGHT, timing=timing)
+
+
+# Near a stop: the Taylor series of the output replace the closed forms -------------
+def _power_output(px: int, py: int) -> tk.Trajectory:
+    """x = t^px, y = t^py on [0, 1] as a one-piece polynomial Trajectory."""
+    degree = max(px, py)
+    c = np.zeros((degree + 1, 1, 2))
+    c[degree - px, 0, 0] = c[degree - py, 0, 1] = 1.0
+    return tk.Trajectory([0.0, 1.0], c)
+
+
+@pytest.mark.parametrize(
+    ("px", "py", "k"),
+    [(2, 3, 1.5), (3, 4, 4.0 / 3.0)],  # a stop with acceleration (m = 1), one without (m = 2)
+)
+def test_heading_and_turn_rate_near_a_stop_match_the_exact_curve(px, py, k):
+    # ẏ/ẋ = k t for both curves: θ = atan(k t), ω = k / (1 + k² t²), dω/dt = -2 k³ t / (...)².
+    plan = flat_trajectory(_power_output(px, py))
+    t = np.array([0.0, 1e-12, 1e-9, 1e-6, 1e-4, 1.7e-3, 5e-3, 2e-2, 0.5, 1.0])
+    state = plan.evaluate(t)
+    np.testing.assert_allclose(state.theta, np.arctan(k * t), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(state.omega, k / (1 + (k * t) ** 2), rtol=1e-12)
+    np.testing.assert_allclose(
+        state.angular_acceleration, -2 * k**3 * t / (1 + (k * t) ** 2) ** 2, rtol=0, atol=1e-11
+    )
+
+
+def test_a_near_stop_is_not_a_stop_and_its_turn_rate_is_reported():
+    # ṗ = (t - 1, 1e-5): the speed dips to 1e-5 m/s at t = 1 and |ω| peaks at 1e5 rad/s there.
+    c = np.zeros((3, 1, 2))
+    c[0, 0, 0], c[1, 0, 0], c[1, 0, 1] = 0.5, -1.0, 1e-5
+    plan = flat_trajectory(tk.Trajectory([0.0, 2.0], c))
+    assert plan.info["stops"] == ()
+    report = plan.check(MobileLimits(angular_velocity=10.0))
+    assert not report.ok
+    assert report.peaks["angular velocity"][0][0] == pytest.approx(-1e5, rel=1e-6)

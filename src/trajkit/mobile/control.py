@@ -99,7 +99,9 @@ class Kanayama:
 
     With ``e_x, e_y`` the position error in the robot frame and ``e_θ`` the
     heading error: ``v = v_d cos e_θ + k_x e_x``,
-    ``ω = ω_d + v_d (k_y e_y + k_θ sin e_θ)``. Stable for ``v_d > 0``.
+    ``ω = ω_d + v_d k_y e_y + |v_d| k_θ sin e_θ`` (the absolute value makes it
+    work driving backwards too). The position error converges while the plan
+    moves (``v_d ≠ 0``); in a turn in place only the heading is corrected.
 
     Parameters
     ----------
@@ -136,7 +138,8 @@ class _KanayamaLaw(_StatelessLaw):
         ex, ey = c * dx + s * dy, -s * dx + c * dy
         eth = _wrap(thd - theta)
         v = vd * math.cos(eth) + self.kx * ex
-        w = wd + vd * (self.ky * ey + self.ktheta * math.sin(eth))
+        # |v_d| on the heading term keeps the law stable when driving backwards.
+        w = wd + vd * self.ky * ey + abs(vd) * self.ktheta * math.sin(eth)
         return v, w, _NO_STATE
 
 
@@ -157,6 +160,13 @@ class FeedbackLinearization:
         Velocity gain (1/s).
     min_speed : float
         ``|ξ|`` is kept above this (m/s): the law is singular at ``ξ = 0``.
+
+    Notes
+    -----
+    The law needs the robot to move: it cannot turn in place (use
+    :class:`Kanayama` for plans with turns in place), and where a plan starts or
+    ends at rest the heading there is whatever the position error leaves. From
+    rest, ``ξ`` starts at ``min_speed`` in the direction of the plan's first motion.
     """
 
     kp: float = 4.0
@@ -169,14 +179,19 @@ class FeedbackLinearization:
             object.__setattr__(self, attribute, _gain(attribute, getattr(self, attribute), unit))
 
     def law(self, plan: MobileTrajectory, start: FloatArray) -> ControlLaw:  # noqa: D102
-        v0 = float(plan.twist(0.0)[0])
-        return _LinearizationLaw(self.kp, self.kd, self.min_speed, v0)
+        speeds = plan.twist(np.linspace(0.0, plan.duration, 1001))[:, 0]
+        moving = np.flatnonzero(np.abs(speeds) >= self.min_speed)
+        # From rest, ξ starts small in the direction the plan first drives.
+        v0 = speeds[0] if abs(speeds[0]) >= self.min_speed else (
+            math.copysign(self.min_speed, speeds[moving[0]]) if moving.size else self.min_speed
+        )  # fmt: skip
+        return _LinearizationLaw(self.kp, self.kd, self.min_speed, float(v0))
 
 
 class _LinearizationLaw(_StatelessLaw):
     def __init__(self, kp: float, kd: float, min_speed: float, v0: float) -> None:
         self.kp, self.kd, self.min_speed = kp, kd, min_speed
-        self.initial_state = np.array([v0 if abs(v0) >= min_speed else min_speed])
+        self.initial_state = np.array([v0])
 
     def __call__(self, t, pose, desired, internal):  # type: ignore[no-untyped-def]
         x, y, theta = pose
@@ -230,9 +245,12 @@ class _PursuitLaw(_StatelessLaw):
     def __init__(
         self, path: FloatArray, speeds: FloatArray, lookahead: float, speed: float | None
     ) -> None:
-        self.path, self.speeds, self.lookahead, self.speed = path, speeds, lookahead, speed
         steps = np.linalg.norm(np.diff(path, axis=0), axis=1)
-        self.arclength = np.concatenate([[0.0], np.cumsum(steps)])
+        # Turns in place repeat a point: keep one, or the nearest point stalls there.
+        keep = np.concatenate([[True], steps > 0.0])
+        self.path, self.speeds = path[keep], speeds[keep]
+        self.lookahead, self.speed = lookahead, speed
+        self.arclength = np.concatenate([[0.0], np.cumsum(steps[keep[1:]])])
         self.nearest = 0
         # Search only a window ahead: a crossing curve (a figure eight) has two near points.
         self.window = max(int(np.searchsorted(self.arclength, 4.0 * lookahead)), 8)
@@ -246,14 +264,24 @@ class _PursuitLaw(_StatelessLaw):
 
     def __call__(self, t, pose, desired, internal):  # type: ignore[no-untyped-def]
         x, y, theta = pose
+        last = len(self.path) - 1
         target_length = self.arclength[self.nearest] + self.lookahead
-        index = min(int(np.searchsorted(self.arclength, target_length)), len(self.path) - 1)
+        index = min(int(np.searchsorted(self.arclength, target_length)), last)
         px, py = self.path[index]
         dx, dy = px - x, py - y
         lateral = -math.sin(theta) * dx + math.cos(theta) * dy
         distance2 = dx * dx + dy * dy
-        v = self.speed if self.speed is not None else float(self.speeds[self.nearest])
-        if self.nearest >= len(self.path) - 1:
+        if self.speed is not None:
+            # Slow down over the last look-ahead so as to stop at the end of the path.
+            remaining = self.arclength[-1] - self.arclength[self.nearest]
+            v = self.speed * min(1.0, remaining / self.lookahead)
+        else:
+            # The plan's speed here or at the look-ahead point, whichever is larger:
+            # a plan that starts at rest would otherwise never get the robot going.
+            here, there = float(self.speeds[self.nearest]), float(self.speeds[index])
+            v = max(abs(here), abs(there))
+            v = math.copysign(v, there if there != 0.0 else here)
+        if self.nearest >= last:
             v = 0.0  # the end of the path is reached
         curvature = 2.0 * lateral / distance2 if distance2 > 1e-18 else 0.0
         return v, v * curvature, _NO_STATE

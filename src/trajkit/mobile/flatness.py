@@ -26,9 +26,9 @@ from scipy.optimize import minimize_scalar
 
 from trajkit._validation import FloatArray, finite_array, increasing_times, positive_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
-from trajkit.mobile.limits import QUANTITIES, MobileLimits
+from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
 from trajkit.mobile.models import Model, wrap_angle
-from trajkit.mobile.plans import phase_law, resolve_model
+from trajkit.mobile.plans import phase_law, phase_limits, resolve_model
 from trajkit.mobile.trajectory import LocalState, MobileTrajectory, Segment, Turn, _channels
 from trajkit.profiles import cubic_spline
 from trajkit.trajectory import Trajectory
@@ -47,7 +47,7 @@ Stops = Literal["error", "turn", "reverse"]
 _GRID = 4001  # grid points per curve segment for stops and extrema
 _REFINED_PEAKS = 8  # how many of the grid's best local extrema are refined
 _STOP = 1e-9  # a speed below this fraction of the peak speed is a stop
-_NEAR_STOP = 1e-3  # below this fraction of the peak speed the stop limits replace the formulas
+_NEAR_STOP = 1e-4  # near a stop and below this fraction of the peak speed, use its series
 _ONE_SIDED = 1e-13  # the series at a stop is taken this fraction of the span inside
 _INWARD = 1e-7  # directions of travel around a stop are read this fraction of the span away
 
@@ -213,6 +213,12 @@ class FlatSegment(Segment):
         self._grid = (grid - t_from) * scale  # local times
         self._theta_grid: FloatArray | None = None
         self._peak_speed = float(np.linalg.norm(output.evaluate(grid, 1), axis=1).max()) or 1.0
+        span = t_to - t_from
+        self._stops = []  # the ends where the output stops, with its series there
+        for t_stop, side in ((t_from, 1.0), (t_to, -1.0)):
+            near = np.array([t_stop + side * _ONE_SIDED * span])
+            if np.linalg.norm(output.evaluate(near, 1)) <= _STOP * self._peak_speed:
+                self._stops.append(_StopSeries(output, t_stop, side, span, self._peak_speed))
         raw = self._state(self._grid, unwrap=False)
         theta = np.unwrap(raw[2])
         if heading_near is not None:
@@ -223,17 +229,20 @@ class FlatSegment(Segment):
 
     def _state(self, tau: FloatArray, *, unwrap: bool = True) -> LocalState:
         k = self.scale
-        t = self.t_from + np.asarray(tau, dtype=float) / k
+        # Clipped: scaling by k and back can land an ulp outside the segment.
+        t = np.clip(self.t_from + np.asarray(tau, dtype=float) / k, self.t_from, self.t_to)
         position = self.output.evaluate(t, 0)
         p1, p2, p3 = (self.output.evaluate(t, order) for order in (1, 2, 3))
         theta, v, omega, acceleration, angular_acceleration = _flat_state(p1, p2, p3, self.sign)
-        stopped = np.abs(v) <= _NEAR_STOP * self._peak_speed
-        if np.any(stopped):
-            # Formulas divide by the speed: use their limits at (and very near) a stop.
-            leaving = np.where(t[stopped] - self.t_from < (self.t_to - self.t_from) / 2, 1.0, -1.0)
-            near = self._at_stop(t[stopped], leaving)
-            theta[stopped], omega[stopped] = near[0], near[1]
-            acceleration[stopped], angular_acceleration[stopped] = near[2], near[3]
+        slow = np.abs(v) <= _NEAR_STOP * self._peak_speed
+        for stop in self._stops:
+            # The formulas divide by the speed: near a stop its Taylor series replace them.
+            after = (t - stop.time) * stop.side
+            near = slow & (after >= 0.0) & (after <= (self.t_to - self.t_from) / 2)
+            if np.any(near):
+                series = stop.state(t[near] - stop.time, self.sign)
+                theta[near], omega[near] = series[0], series[1]
+                acceleration[near], angular_acceleration[near] = series[2], series[3]
         if unwrap and self._theta_grid is not None:
             reference = np.interp(tau, self._grid, self._theta_grid)
             theta = theta + 2.0 * np.pi * np.round((reference - theta) / (2.0 * np.pi))
@@ -249,24 +258,6 @@ class FlatSegment(Segment):
 
     def local_state(self, tau: FloatArray) -> LocalState:
         return self._state(tau)
-
-    def _at_stop(self, t: FloatArray, leaving: FloatArray) -> LocalState:
-        """θ, ω, dv/dt and dω/dt where the output (nearly) stops, before time scaling.
-
-        The formulas divide by the speed, so their limits are taken from the Taylor
-        series of ``ṗ`` at the point: ``ṗ ≈ c_m τ^m + c_(m+1) τ^(m+1) + ...``
-        (``m = 1`` for a stop with acceleration, more where it vanishes too).
-        ``ω = (ṗ × p̈) / |ṗ|²`` is then a ratio of two series of the same leading
-        power, whose first two terms give ``ω`` and ``dω/dt``.
-        """
-        # One-sided: a stop at a breakpoint of a piecewise output has two series.
-        near = t + leaving * _ONE_SIDED * (self.t_to - self.t_from)
-        derivatives = np.stack([self.output.evaluate(near, order) for order in range(1, 8)])
-        scale = self._peak_speed / max(self.t_to - self.t_from, 1e-300)
-        out = np.zeros((4, t.size))
-        for i in range(t.size):  # only the few points at a stop
-            out[:, i] = _stop_limit(derivatives[:, i], self.sign * leaving[i], leaving[i], scale)
-        return out[0], out[1], out[2], out[3]
 
     @property
     def end_pose(self) -> FloatArray:
@@ -313,31 +304,71 @@ def _local_minima(values: FloatArray) -> FloatArray:
     return found[np.argsort(values[found], kind="stable")]
 
 
-def _stop_limit(derivatives: FloatArray, direction: float, side: float, scale: float) -> FloatArray:
-    """Heading, ω, dv/dt, dω/dt at a stop from the output's derivatives 1 to 7 there.
+class _StopSeries:
+    """The output's motion around a stop, from its Taylor series there.
 
-    ``direction`` is +1 where the base leaves forwards (or arrives backwards),
-    ``side`` +1 after the stop and -1 before it; ``scale`` (m/s per s) sets what
-    counts as a zero coefficient.
+    With ``τ`` the time from the stop, ``ṗ(τ) = Σ c_j τ^j`` (``c_0 = 0``; the
+    first nonzero ``c_m`` gives the order: ``m = 1`` for a stop with
+    acceleration). ``ω = (ṗ × p̈) / |ṗ|²`` is then a ratio of two series with the
+    same leading power ``τ^(2m)``, which cancels: evaluating the ratio of the
+    remaining series avoids the 0/0 and the cancellation of the closed forms.
+    Derivatives 1 to 7 are used, so ``ω`` is exact to ``O(τ^(6-m))``.
+
+    ``side`` is +1 for a stop at the start of a segment (the motion after it), -1
+    for one at the end (the motion before it); the derivatives are taken on that
+    side, since a stop at a breakpoint of a piecewise output has two series.
     """
-    factorials = np.cumprod([1.0, *range(1, derivatives.shape[0])])
-    series = derivatives / factorials[:, np.newaxis]  # ṗ(τ) = Σ series[j] τ^j
-    series[0] = 0.0  # the speed vanishes here by definition
-    size = np.linalg.norm(series, axis=1)
-    nonzero = np.flatnonzero(size > 1e-9 * scale * np.maximum(1.0, np.abs(series).max()))
-    if nonzero.size == 0 or nonzero[0] + 2 >= series.shape[0]:
-        raise InfeasibleError("the flat output rests with no derivative to give a heading")
-    m = int(nonzero[0])
-    rate = series[1:] * np.arange(1, series.shape[0])[:, np.newaxis]  # p̈(τ)
-    numerator = np.convolve(series[:, 0], rate[:, 1]) - np.convolve(series[:, 1], rate[:, 0])
-    denominator = np.convolve(series[:, 0], series[:, 0]) + np.convolve(series[:, 1], series[:, 1])
-    lead = 2 * m  # the leading power of both |ṗ|² and ṗ × p̈ (c_m × c_m vanishes)
-    n0, n1 = numerator[lead], numerator[lead + 1]
-    d0, d1 = denominator[lead], denominator[lead + 1]
-    heading_sign = direction * side ** (m - 1)  # σ side^m: ṗ ≈ c_m τ^m with τ's sign = side
-    theta = np.arctan2(heading_sign * series[m, 1], heading_sign * series[m, 0])
-    dv = direction * np.linalg.norm(series[1]) if m == 1 else 0.0
-    return np.array([theta, n0 / d0, dv, (n1 * d0 - n0 * d1) / d0**2])
+
+    def __init__(
+        self, output: FlatOutput, time: float, side: float, span: float, peak: float
+    ) -> None:
+        self.time, self.side = time, side
+        near = np.array([time + side * _ONE_SIDED * span])
+        derivatives = np.array([output.evaluate(near, order)[0] for order in range(1, 8)])
+        factorials = np.cumprod([1.0, *range(1, derivatives.shape[0])])
+        series = derivatives / factorials[:, np.newaxis]
+        series[0] = 0.0  # the speed vanishes here by definition
+        size = np.linalg.norm(series, axis=1)
+        rate = peak / max(span, 1e-300)  # m/s per s: what counts as a zero coefficient
+        nonzero = np.flatnonzero(size > 1e-9 * rate * np.maximum(1.0, np.abs(series).max()))
+        if nonzero.size == 0 or nonzero[0] > 4:
+            raise InfeasibleError(
+                f"the flat output rests at t={time:.6g} s with no derivative up to the 5th "
+                "to give a heading (does it stand still for a while?); remove the pause"
+            )
+        m = int(nonzero[0])
+        self.series, self.order = series, m
+        self.rate = series[1:] * np.arange(1, series.shape[0])[:, np.newaxis]  # p̈(τ)
+        numerator = np.convolve(series[:, 0], self.rate[:, 1]) - np.convolve(
+            series[:, 1], self.rate[:, 0]
+        )
+        denominator = np.convolve(series[:, 0], series[:, 0]) + np.convolve(
+            series[:, 1], series[:, 1]
+        )
+        reliable = 6 - m  # terms of the reduced series that the 7 derivatives determine
+        self.numerator = numerator[2 * m : 2 * m + reliable]
+        self.denominator = denominator[2 * m : 2 * m + reliable]
+
+    def state(self, tau: FloatArray, sign: float) -> LocalState:
+        """θ, ω, dv/dt, dω/dt at times ``tau`` from the stop (before time scaling)."""
+        poly = np.polynomial.polynomial
+        p1 = poly.polyval(tau, self.series).T  # (n, 2)
+        p2 = poly.polyval(tau, self.rate).T
+        # At the stop itself the direction of travel is that of c_m τ^m.
+        lead = sign * self.side**self.order * self.series[self.order]
+        at_stop = tau == 0.0
+        direction = np.where(at_stop[:, np.newaxis], lead, sign * p1)
+        theta = np.arctan2(direction[:, 1], direction[:, 0])
+        speed = np.linalg.norm(p1, axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            acceleration = sign * np.einsum("ij,ij->i", p1, p2) / speed
+        first = self.series[1]
+        at_rest = sign * self.side * float(np.linalg.norm(first)) if self.order == 1 else 0.0
+        acceleration = np.where(at_stop, at_rest, acceleration)
+        n, d = poly.polyval(tau, self.numerator), poly.polyval(tau, self.denominator)
+        dn = poly.polyval(tau, poly.polyder(self.numerator))
+        dd = poly.polyval(tau, poly.polyder(self.denominator))
+        return theta, n / d, acceleration, (dn * d - n * dd) / d**2
 
 
 def _stops(output: FlatOutput) -> tuple[list[float], float]:
@@ -455,11 +486,7 @@ def flat_trajectory(
     if stops not in ("error", "turn", "reverse"):
         raise InvalidInputError(f"stops must be 'error', 'turn' or 'reverse', got {stops!r}")
     base = resolve_model(model)
-    limits = base.limits if limits is None else limits
-    if not isinstance(limits, MobileLimits):
-        raise InvalidInputError(
-            f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
-        )
+    limits = check_limits(base.limits if limits is None else limits)
     found, _ = _stops(output)
     span = output.duration
     interior = [t for t in found if _INWARD * span * 10 < t < span * (1 - _INWARD * 10)]
@@ -504,11 +531,10 @@ def flat_trajectory(
             # The curve's heading is the turn count nearest the last: turns go the short way.
             turn = 0.0 if heading is None else float(curve.start_pose[2] - heading)
             if stops == "turn" and abs(turn) > 1e-9:
-                law = phase_law(
-                    "turn at a stop", turn, limits.magnitude("angular_velocity"),
-                    limits.magnitude("angular_acceleration"), None, "trapezoid", None, None,
-                    ("rad", "rad/s", "rad/s^2"),
-                )  # fmt: skip
+                label = f"turn at the stop at t={edges[i]:.6g} s"
+                speed, change = phase_limits(label, "turn", turn, limits, base)
+                law = phase_law(label, turn, speed, change, None, "trapezoid", None, None,
+                                ("rad", "rad/s", "rad/s^2"), ("wmax", "alpha_max", ""))  # fmt: skip
                 segments.append(Turn(segments[-1].end_pose, law))
             segments.append(curve)
         return segments
@@ -524,12 +550,12 @@ def flat_trajectory(
             segments = build(scale)
     info = {
         "plan": "flat_output",
-        "time_scale": scale,
+        "time_scale": float(scale),
         "stops": tuple(interior),
         "limited_by": limited_by,
         "stops_treatment": stops,
     }
-    return MobileTrajectory(segments, base, info=info)
+    return MobileTrajectory(segments, base, limits=limits, info=info)
 
 
 def _uniform_scale(
@@ -549,10 +575,20 @@ def _uniform_scale(
         order, weights = _channels(attribute, model)
         for _, cv, cw in weights:
             for curve in curves:
-                low, _, high, _ = curve.extrema(order, cv, cw)
+                low, t_low, high, t_high = curve.extrema(order, cv, cw)
                 lower, upper = float(bounds.lower), float(bounds.upper)
-                need = max(high / upper if high > 0 else 0.0, low / lower if low < 0 else 0.0)
-                need = need if order == 1 else np.sqrt(need)
+                need = 0.0
+                tiny = 1e-12 * max(abs(lower), abs(upper))
+                for value, bound, when, side in ((high, upper, t_high, 1), (low, lower, t_low, -1)):
+                    if side * value <= tiny:
+                        continue  # the curve never goes this way
+                    if side * bound <= 0.0:  # no slow-down reaches a side bounded at 0
+                        raise InfeasibleError(
+                            f"the curve needs {quantity} {value:.6g} (at t={when:.6g} s on its "
+                            f"own clock) but the limit is ({lower:g}, {upper:g})"
+                        )
+                    need = max(need, value / bound)
+                need = need if order == 1 else float(np.sqrt(need))
                 if need > scale:
                     scale, which = need, quantity
     if which is None:

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from trajkit.errors import InvalidInputError
 from trajkit.limits import Bounds, LimitSpec, parse_bounds
 
-__all__ = ["QUANTITIES", "UNITS", "MobileLimits"]
+__all__ = ["QUANTITIES", "UNITS", "MobileLimits", "check_limits"]
 
 # Attribute, the name used in messages and reports, and the unit.
 QUANTITIES = (
@@ -85,3 +85,12 @@ class MobileLimits:
             if bounds is not None:
                 parts.append(f"{attribute}=({float(bounds.lower):g}, {float(bounds.upper):g})")
         return f"MobileLimits({', '.join(parts)})"
+
+
+def check_limits(limits: object) -> MobileLimits:
+    """``limits`` itself, once it is known to be a :class:`MobileLimits`."""
+    if not isinstance(limits, MobileLimits):
+        raise InvalidInputError(
+            f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
+        )
+    return limits

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
-from trajkit.mobile.limits import MobileLimits
+from trajkit.mobile.limits import MobileLimits, check_limits
 
 __all__ = [
     "DiffDrive",
@@ -65,19 +65,12 @@ class Unicycle:
     name: str = "unicycle"
 
     def __post_init__(self) -> None:
-        _check_limits(self.limits)
+        check_limits(self.limits)
         if self.limits.wheel_speed is not None:
             raise InvalidInputError(
                 "limits has a wheel_speed limit, which needs a DiffDrive model: "
                 "a unicycle has no wheels"
             )
-
-
-def _check_limits(limits: object) -> None:
-    if not isinstance(limits, MobileLimits):
-        raise InvalidInputError(
-            f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
-        )
 
 
 @dataclass(frozen=True)
@@ -123,7 +116,7 @@ class DiffDrive:
     name: str = "diff-drive"
 
     def __post_init__(self) -> None:
-        _check_limits(self.limits)
+        check_limits(self.limits)
         for attribute in ("wheel_radius", "track_width"):
             object.__setattr__(
                 self, attribute, positive_scalar(attribute, getattr(self, attribute), unit="m")

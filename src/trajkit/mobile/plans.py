@@ -8,16 +8,22 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit._validation import finite_array, finite_scalar, positive_scalar
-from trajkit.errors import InvalidInputError
-from trajkit.mobile.limits import MobileLimits
-from trajkit.mobile.models import DiffDrive, Model, Unicycle, pose_array, wrap_angle
+from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.mobile.limits import MobileLimits, check_limits
+from trajkit.mobile.models import (
+    DiffDrive,
+    Model,
+    Unicycle,
+    pose_array,
+    wrap_angle,
+)
 from trajkit.mobile.trajectory import (
     Arc,
     MobileTrajectory,
     Segment,
     Straight,
     Turn,
-    command_times,
+    command_count,
 )
 from trajkit.profiles import scurve, trapezoidal
 from trajkit.trajectory import Trajectory
@@ -90,7 +96,7 @@ def constant_twist(
         "turned": turn_rate * seconds,
         "distance": abs(speed) * seconds,
         "rate_hz": rate,
-        "command_count": None if rate is None else command_times(seconds, rate).size,
+        "command_count": None if rate is None else command_count(seconds, rate),
     }
     return MobileTrajectory([arc], resolve_model(model), info=info)
 
@@ -99,7 +105,7 @@ def phase_law(
     name: str,
     distance: float,
     speed: float | None,
-    acceleration: float | None,
+    acceleration: float | tuple[float, float] | None,
     jerk: float | None,
     profile: Profile,
     blend_ratio: float | None,
@@ -112,6 +118,8 @@ def phase_law(
     ``blend_ratio`` selects the coursework's LSPB rule ``t_b = ratio * t_f``
     (shortest duration under ``speed`` and, if given, ``acceleration``);
     otherwise ``profile`` gives the time-optimal trapezoid or S-curve.
+    ``speed`` is the bound in the direction of motion; ``acceleration`` a
+    magnitude or a ``(lower, upper)`` pair (an S-curve takes the smaller side).
     ``units`` names the position, speed and acceleration units for messages,
     ``names`` the arguments that give the speed, acceleration and jerk limits.
     """
@@ -133,16 +141,57 @@ def phase_law(
     if profile == "scurve":
         if jerk is None:
             raise InvalidInputError(f"the {name} needs {jerk_name} for an S-curve")
+        if isinstance(acceleration, tuple):
+            acceleration = min(-acceleration[0], acceleration[1])
         return scurve(0.0, distance, speed, acceleration, jerk, dt=dt)
     raise InvalidInputError(f"profile must be 'trapezoid' or 'scurve', got {profile!r}")
 
 
-def _limit(
-    given: float | None, limits: MobileLimits, attribute: str, name: str, unit: str
-) -> float | None:
-    if given is not None:
-        return positive_scalar(name, given, unit=unit)
-    return limits.magnitude(attribute)
+def phase_limits(
+    name: str, kind: str, amount: float, limits: MobileLimits, model: Model
+) -> tuple[float | None, float | tuple[float, float] | None]:
+    """The speed bound in the direction of a turn or a drive, and its acceleration bounds.
+
+    Asymmetric limits count on the side the phase moves to; a differential
+    drive's wheel limit caps the speed too (a drive turns both wheels forward or
+    back, a turn in place one each way).
+
+    Raises
+    ------
+    InfeasibleError
+        The side the phase needs is bounded at 0 (e.g. a reverse drive under
+        ``velocity=(0, 0.5)``), or a wheel limit forbids it.
+    """
+    rate = "velocity" if kind == "drive" else "angular_velocity"
+    change = "acceleration" if kind == "drive" else "angular_acceleration"
+    unit = "m/s" if kind == "drive" else "rad/s"
+    bounds = getattr(limits, rate)
+    speed = None
+    if bounds is not None:
+        speed = float(bounds.upper) if amount > 0 else -float(bounds.lower)
+    if isinstance(model, DiffDrive) and limits.wheel_speed is not None:
+        wheel_up, wheel_down = float(limits.wheel_speed.upper), -float(limits.wheel_speed.lower)
+        if kind == "drive":
+            cap = model.wheel_radius * (wheel_up if amount > 0 else wheel_down)
+        else:
+            cap = model.wheel_radius * min(wheel_up, wheel_down) / (model.effective_track / 2)
+        speed = cap if speed is None else min(speed, cap)
+    if speed is not None and speed <= 0.0:
+        raise InfeasibleError(
+            f"the {name} moves {'forwards' if amount > 0 else 'backwards'} "
+            f"({amount:.6g} {unit[:-2]}) but the {rate.replace('_', ' ')} and wheel limits "
+            f"allow no speed that way"
+        )
+    bounds = getattr(limits, change)
+    if bounds is None:
+        return speed, None
+    lower, upper = float(bounds.lower), float(bounds.upper)
+    if lower == 0.0 or upper == 0.0:
+        raise InfeasibleError(
+            f"the {name} must speed up and slow down, but the {change.replace('_', ' ')} "
+            f"limit is ({lower:g}, {upper:g}): one side is 0"
+        )
+    return speed, (upper if -lower == upper else (lower, upper))
 
 
 # Below this a move has no length: the robot only turns (m), or does not turn (rad).
@@ -164,6 +213,7 @@ def rotate_translate_rotate(
     reverse: bool = False,
     dt: float | None = None,
     model: Model | None = None,
+    limits: MobileLimits | None = None,
 ) -> MobileTrajectory:
     """Turn to face the goal, drive straight to it, turn to the final heading.
 
@@ -177,11 +227,10 @@ def rotate_translate_rotate(
     start : array_like
         Start pose ``(x, y, θ)``.
     vmax, wmax : float, optional
-        Speed (m/s) and turn-rate (rad/s) limits; default the model's.
+        Speed (m/s) and turn-rate (rad/s) limits; they replace those of ``limits``.
     amax, alpha_max : float, optional
-        Linear (m/s²) and angular (rad/s²) acceleration limits; default the
-        model's. Needed for time-optimal profiles; with a ``blend_ratio`` they
-        are only respected.
+        Linear (m/s²) and angular (rad/s²) acceleration limits, likewise. Needed
+        for time-optimal profiles; with a ``blend_ratio`` they are only respected.
     jmax, angular_jmax : float, optional
         Jerk limits (m/s³, rad/s³) for ``profile="scurve"``.
     profile : {"trapezoid", "scurve"}
@@ -193,19 +242,25 @@ def rotate_translate_rotate(
     dt : float, optional
         Controller period (s): phase switching times become whole multiples of it.
     model : Unicycle or DiffDrive, optional
-        Default: a plain unicycle. Its limits fill any limit not given.
+        Default: a plain unicycle.
+    limits : MobileLimits, optional
+        Default: the model's. Asymmetric limits count on the side each phase moves
+        to; a DiffDrive's wheel limit caps the speeds too.
 
     Returns
     -------
     MobileTrajectory
-        Up to three segments (phases of zero length are left out); ``info`` holds
-        ``phases`` (names), ``phase_durations`` (s), ``turns`` (rad),
-        ``distance`` (m, signed) and ``profile``.
+        Up to three segments (phases of zero length are left out), carrying the
+        limits it was planned for; ``info`` holds ``phases`` (names),
+        ``phase_durations`` (s), ``turns`` (rad), ``distance`` (m, signed) and
+        ``profile``.
 
     Raises
     ------
     InvalidInputError
         Malformed poses or limits, or a limit the profile needs is missing.
+    InfeasibleError
+        A limit allows no motion the way a phase must go.
     """
     if profile not in ("trapezoid", "scurve"):
         raise InvalidInputError(f"profile must be 'trapezoid' or 'scurve', got {profile!r}")
@@ -216,11 +271,19 @@ def rotate_translate_rotate(
         raise InvalidInputError(
             f"goal must be (x, y) or (x, y, theta) in m, m, rad, got shape {target.shape}"
         )
-    limits = base.limits
-    v = _limit(vmax, limits, "velocity", "vmax", "m/s")
-    w = _limit(wmax, limits, "angular_velocity", "wmax", "rad/s")
-    a = _limit(amax, limits, "acceleration", "amax", "m/s^2")
-    alpha = _limit(alpha_max, limits, "angular_acceleration", "alpha_max", "rad/s^2")
+    limits = check_limits(base.limits if limits is None else limits)
+    given = {}
+    for attribute, name, value, unit in (
+        ("velocity", "vmax", vmax, "m/s"),
+        ("angular_velocity", "wmax", wmax, "rad/s"),
+        ("acceleration", "amax", amax, "m/s^2"),
+        ("angular_acceleration", "alpha_max", alpha_max, "rad/s^2"),
+    ):
+        if value is not None:
+            given[attribute] = positive_scalar(name, value, unit=unit)
+    limits = limits.replace(**given)
+    if not isinstance(reverse, bool):
+        raise InvalidInputError(f"reverse must be True or False, got {reverse!r}")
     j = None if jmax is None else positive_scalar("jmax", jmax, unit="m/s^3")
     wj = None
     if angular_jmax is not None:
@@ -254,12 +317,13 @@ def rotate_translate_rotate(
     for kind, label, amount in plan:
         if abs(amount) <= _NO_MOTION:
             continue
+        speed, change = phase_limits(label, kind, amount, limits, base)
         if kind == "turn":
-            law = phase_law(label, amount, w, alpha, wj, profile, blend_ratio, step, angular,
+            law = phase_law(label, amount, speed, change, wj, profile, blend_ratio, step, angular,
                             ("wmax", "alpha_max", "angular_jmax"))  # fmt: skip
             segment: Segment = Turn(pose, law)
         else:
-            law = phase_law(label, amount, v, a, j, profile, blend_ratio, step, linear,
+            law = phase_law(label, amount, speed, change, j, profile, blend_ratio, step, linear,
                             ("vmax", "amax", "jmax"))  # fmt: skip
             segment = Straight(pose, law)
         segments.append(segment)
@@ -276,4 +340,4 @@ def rotate_translate_rotate(
         "turns": tuple(amount for kind, _, amount in plan if kind == "turn"),
         "distance": distance,
     }
-    return MobileTrajectory(segments, base, info=info)
+    return MobileTrajectory(segments, base, limits=limits, info=info)

@@ -19,10 +19,10 @@ from trajkit.mobile.control import (
     nearest_path_distance,
     saturate,
 )
-from trajkit.mobile.limits import MobileLimits
+from trajkit.mobile.limits import MobileLimits, check_limits
 from trajkit.mobile.models import DiffDrive, Model, arc_pose, pose_array, rk4_step, wrap_angle
 from trajkit.mobile.plans import resolve_model
-from trajkit.mobile.trajectory import MobileState, MobileTrajectory
+from trajkit.mobile.trajectory import MobileState, MobileTrajectory, command_count
 from trajkit.trajectory import sample_times
 
 __all__ = ["SimulationLog", "simulate"]
@@ -193,7 +193,8 @@ def simulate(
         The simulated robot (default: the plan's model); e.g. a plan made for a
         bare unicycle, driven on a base whose wheels saturate.
     limits : MobileLimits, optional
-        Commands are saturated to these (default: the simulated model's).
+        Commands are saturated to these (default: the limits the plan was made
+        for, or the simulated model's when ``model`` is given).
     noise : (float, float), optional
         Standard deviations of the position (m) and heading (rad) measurement
         noise the controller sees, drawn anew every step.
@@ -217,11 +218,9 @@ def simulate(
         raise InvalidInputError("the plan has no duration to simulate; pass duration=")
     start = plan.start_pose if initial_pose is None else pose_array("initial_pose", initial_pose)
     robot = plan.model if model is None else resolve_model(model)
-    limits = robot.limits if limits is None else limits
-    if not isinstance(limits, MobileLimits):
-        raise InvalidInputError(
-            f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
-        )
+    if limits is None:
+        limits = plan.limits if model is None else robot.limits
+    limits = check_limits(limits)
     sigma = _noise(noise)
     rng = np.random.default_rng(seed)
     law = controller.law(plan, start)
@@ -340,7 +339,8 @@ def _held(
 ) -> tuple[FloatArray, FloatArray]:
     """Commands every ``1 / rate_hz`` s, held; exact arcs in between; log on ``times``."""
     period = 1.0 / rate_hz
-    count = int(np.ceil(times[-1] / period * (1.0 - 1e-12))) + 1
+    # The commands sent before the end, and one more at the end that holds for no time.
+    count = command_count(times[-1], rate_hz) + 1
     command_times = period * np.arange(count)
     # Each command holds for the period after it (one at the log's end holds nothing).
     holding = command_times < times[-1]

@@ -23,9 +23,9 @@ from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
 from trajkit.limits import Report, Violation, compare
-from trajkit.mobile.limits import QUANTITIES, MobileLimits
+from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
 from trajkit.mobile.models import DiffDrive, Model, Unicycle, arc_pose, pose_array
-from trajkit.trajectory import Extrema, Trajectory, sample_times
+from trajkit.trajectory import MAX_SAMPLES, Extrema, Trajectory, sample_times
 
 __all__ = ["MobileState", "MobileTrajectory", "Segment"]
 
@@ -74,9 +74,21 @@ def command_times(duration: float, rate_hz: float) -> FloatArray:
     At least one (``t = 0``); an end that falls on a command time, up to rounding,
     gets no command of its own.
     """
-    period = 1.0 / rate_hz
-    count = max(int(np.ceil(duration / period * (1.0 - 1e-12))), 1)
-    return period * np.arange(count)
+    count = command_count(duration, rate_hz)
+    if count > MAX_SAMPLES:
+        raise InvalidInputError(
+            f"rate_hz={rate_hz:g} Hz over {duration:g} s gives {count:.3g} commands; at most "
+            f"{MAX_SAMPLES:.0e} are made"
+        )
+    return (1.0 / rate_hz) * np.arange(count)
+
+
+def command_count(duration: float, rate_hz: float) -> int:
+    """How many commands :func:`command_times` gives, without making them.
+
+    A command within a billionth of a period of the end is not sent.
+    """
+    return max(int(np.ceil(duration * rate_hz - 1e-9)), 1)
 
 
 # The local state of a segment: x, y, θ, v, ω, dv/dt, dω/dt at each local time.
@@ -223,6 +235,9 @@ class MobileTrajectory:
         (checked to 1e-9 m and rad).
     model : Unicycle or DiffDrive
         The base; wheel speeds need a DiffDrive.
+    limits : MobileLimits, optional
+        The limits the plan was made for (default: the model's); :meth:`check`
+        and :func:`~trajkit.mobile.simulate` use them unless told otherwise.
     info : mapping, optional
         Plan data a planner attaches (phase times, scaling...). Read-only.
 
@@ -237,6 +252,7 @@ class MobileTrajectory:
         segments: Sequence[Segment],
         model: Model,
         *,
+        limits: MobileLimits | None = None,
         info: Mapping[str, Any] | None = None,
     ) -> None:
         if not isinstance(model, Unicycle | DiffDrive):
@@ -255,6 +271,7 @@ class MobileTrajectory:
                 )
         self._segments = parts
         self._model = model
+        self._limits = check_limits(model.limits if limits is None else limits)
         self._breakpoints = np.concatenate([[0.0], np.cumsum([s.duration for s in parts])])
         self._breakpoints.setflags(write=False)
         self._info: Mapping[str, Any] = MappingProxyType(dict(info or {}))
@@ -269,6 +286,11 @@ class MobileTrajectory:
     def model(self) -> Model:
         """The base this trajectory drives."""
         return self._model
+
+    @property
+    def limits(self) -> MobileLimits:
+        """The limits the plan was made for."""
+        return self._limits
 
     @property
     def breakpoints(self) -> FloatArray:
@@ -356,7 +378,7 @@ class MobileTrajectory:
         Parameters
         ----------
         limits : MobileLimits, optional
-            Default: the model's limits.
+            Default: the limits the plan was made for (:attr:`limits`).
         rtol : float
             Relative tolerance on each bound (default 1e-9).
 
@@ -367,12 +389,12 @@ class MobileTrajectory:
             Turns, straight drives and arcs are checked exactly (extrema of their
             polynomial laws); flat-output curves from a dense grid refined to
             about 1e-12 s by bounded scalar search (see :mod:`trajkit.mobile.flatness`).
+            Where two segments meet with different twists (a curve into a turn
+            at a stop, say) the acceleration is unbounded: ``±inf`` at that time.
+            The plan's first and last twists are its boundary states and are not
+            compared with rest.
         """
-        limits = self._model.limits if limits is None else limits
-        if not isinstance(limits, MobileLimits):
-            raise InvalidInputError(
-                f"limits must be a trajkit.mobile.MobileLimits, got {type(limits).__name__}"
-            )
+        limits = check_limits(self._limits if limits is None else limits)
         tolerance = positive_scalar("rtol", rtol)
         violations: list[Violation] = []
         peaks, bounds, channels = {}, {}, {}
@@ -398,13 +420,32 @@ class MobileTrajectory:
         starts = self._breakpoints[:-1]
         low, high = np.argmin(values[..., 0], axis=1), np.argmax(values[..., 2], axis=1)
         rows = np.arange(len(weights))
-        return Extrema(
+        found = Extrema(
             order=order,
             minimum=values[rows, low, 0],
             time_of_minimum=starts[low] + values[rows, low, 1],
             maximum=values[rows, high, 2],
             time_of_maximum=starts[high] + values[rows, high, 3],
         )
+        if order == 2:
+            for i, (before, after) in enumerate(self._junction_twists(), start=1):
+                for j, (_, cv, cw) in enumerate(weights):
+                    jump = cv * (after[0] - before[0]) + cw * (after[1] - before[1])
+                    size = abs(cv * before[0]) + abs(cw * before[1]) + abs(cv) + abs(cw)
+                    if abs(jump) > 1e-9 * size:
+                        extreme = found.maximum if jump > 0 else found.minimum
+                        when = found.time_of_maximum if jump > 0 else found.time_of_minimum
+                        extreme[j], when[j] = np.copysign(np.inf, jump), self._breakpoints[i]
+        return found
+
+    def _junction_twists(self) -> list[tuple[FloatArray, FloatArray]]:
+        """``(v, ω)`` at the end of each segment and at the start of the next."""
+        pairs = []
+        for left, right in zip(self._segments[:-1], self._segments[1:], strict=True):
+            end = left.local_state(np.array([left.duration]))
+            start = right.local_state(np.array([0.0]))
+            pairs.append((np.array([end[3][0], end[4][0]]), np.array([start[3][0], start[4][0]])))
+        return pairs
 
     # ----------------------------------------------------------------- files
     def to_csv(self, path: str | os.PathLike[str], dt: float) -> Path:
