@@ -323,3 +323,12 @@ def test_mobile_failure_writes_no_file(capsys, tmp_path):
     assert status == 2
     assert "does not exist" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_mobile_bad_step_fails_before_any_output(capsys, tmp_path):
+    csv = tmp_path / "plan.csv"
+    status, out, err = run(capsys, "mobile", "twist", "10", "0.1", "10", "5", "--dt", "-1",
+                           "--csv", str(csv))  # fmt: skip
+    assert status == 2 and out == ""
+    assert err == "trajkit: error: --dt must be a time > 0 s, got -1\n"
+    assert not csv.exists()

@@ -172,6 +172,8 @@ def run_mobile(args: argparse.Namespace) -> int:
     """Carry out one ``trajkit mobile`` command; returns the exit status."""
     _check_suffix(args.plot, "--plot")
     _check_suffix(args.path_plot, "--path-plot")
+    if not args.dt > 0.0 or not np.isfinite(args.dt):
+        raise InvalidInputError(f"--dt must be a time > 0 s, got {args.dt:g}")
     model = ROBOTS[args.robot]()
     limits = _limits(model, args)
     log = None

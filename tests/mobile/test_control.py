@@ -336,3 +336,41 @@ def test_pure_pursuit_converges_to_the_path(side):
     log = run_from_offset(PurePursuit(), side)
     assert log.path_distance[0] >= 0.29  # it starts well off the path
     assert log.path_distance[log.t >= 10.0].max() <= PURSUIT_PATH_AFTER_10S
+
+
+def test_pure_pursuit_gets_going_on_a_plan_from_rest_and_stops_at_its_end():
+    from trajkit.mobile import rotate_translate_rotate, spline_output
+
+    limits = MobileLimits(velocity=0.5, angular_velocity=1.0, acceleration=1.0,
+                          angular_acceleration=1.0)  # fmt: skip
+    plan = rotate_translate_rotate((3.0, 0.0), limits=limits)
+    run = simulate(plan, PurePursuit(), dt=0.01, duration=plan.duration + 2.0)
+    assert run.final_position_error < 1e-3
+    curve = flat_trajectory(spline_output([[0.0, 0.0], [1.0, 0.0], [2.0, 1.0]]))
+    run = simulate(curve, PurePursuit(lookahead=0.2), dt=0.01, duration=curve.duration + 5.0)
+    assert run.final_position_error < 1e-3 and run.max_path_distance < 0.01
+
+
+def test_pure_pursuit_does_not_stall_on_a_final_turn_in_place():
+    from trajkit.mobile import rotate_translate_rotate
+
+    limits = MobileLimits(velocity=0.5, angular_velocity=1.0, acceleration=1.0,
+                          angular_acceleration=1.0)  # fmt: skip
+    plan = rotate_translate_rotate((5.0, 3.0, 1.5), limits=limits)
+    run = simulate(plan, PurePursuit(speed=0.2), dt=0.02, duration=60.0)
+    # It stops at the goal instead of driving on past it (pure pursuit cannot turn in place).
+    assert run.final_position_error < 0.01
+    assert np.hypot(*(run.actual[:, :2] - [5.0, 3.0]).T).min() < 0.01
+
+
+@pytest.mark.parametrize("controller", [Kanayama(), FeedbackLinearization()])
+def test_trackers_converge_driving_backwards(controller):
+    from trajkit.mobile import rotate_translate_rotate
+
+    limits = MobileLimits(velocity=0.5, angular_velocity=1.0, acceleration=1.0,
+                          angular_acceleration=1.0)  # fmt: skip
+    plan = rotate_translate_rotate((-3.0, 0.0), limits=limits, reverse=True)
+    assert plan.twist(3.0)[0] < 0.0
+    run = simulate(plan, controller, dt=0.01, initial_pose=(0.0, 0.1, 0.1))
+    assert run.final_position_error < 5e-3
+    assert run.final_heading_error < np.radians(1.0)

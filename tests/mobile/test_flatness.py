@@ -630,3 +630,19 @@ def test_a_near_stop_is_not_a_stop_and_its_turn_rate_is_reported():
     report = plan.check(MobileLimits(angular_velocity=10.0))
     assert not report.ok
     assert report.peaks["angular velocity"][0][0] == pytest.approx(-1e5, rel=1e-6)
+
+
+def test_fit_refuses_a_side_bounded_at_zero():
+    out_and_back = tk.quintic(A, B, 1.0).then(tk.quintic(B, A, 1.0))
+    with pytest.raises(InfeasibleError, match=r"needs velocity -\d.* limit is \(0, 1\)"):
+        flat_trajectory(out_and_back, limits=MobileLimits(velocity=(0.0, 1.0)), stops="reverse",
+                        timing="within_limits")  # fmt: skip
+
+
+def test_fitted_curve_keeps_its_limits_for_check_and_simulation():
+    limits = MobileLimits(velocity=0.3)
+    plan = flat_trajectory(EIGHT, model=jackal(), limits=limits, timing="within_limits")
+    assert plan.limits == limits
+    assert plan.check().bounds["velocity"][1][0] == 0.3
+    assert plan.info["time_scale"] == pytest.approx(0.444288293816 / 0.3, rel=1e-9)
+    assert isinstance(plan.info["time_scale"], float)

@@ -376,3 +376,28 @@ def test_closed_form_reference_is_the_textbook_circle():
     # Guard the test's own oracle: a half circle of radius 1 from the origin heading +x.
     support.assert_state(closed_form_arc([0, 0, 0], 1.0, 1.0, np.pi), [0.0, 2.0, np.pi],
                          rtol=CLOSED_FORM)  # fmt: skip
+
+
+def test_wheel_limit_given_once_or_consistently():
+    assert DiffDrive(0.1, 0.4, limits=MobileLimits(wheel_speed=5.0)).wheel_speed_limit == 5.0
+    same = DiffDrive(0.1, 0.4, wheel_speed_limit=5.0, limits=MobileLimits(wheel_speed=5.0))
+    assert same.wheel_speed_limit == 5.0
+    with pytest.raises(InvalidInputError, match=r"wheel_speed_limit=7 rad/s disagrees .*\(-5, 5\)"):
+        DiffDrive(0.1, 0.4, wheel_speed_limit=7.0, limits=MobileLimits(wheel_speed=5.0))
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda: DiffDrive(0.1, 0.4, wheelbase=[1.0, 2.0]), "wheelbase must be a single number"),
+        (lambda: DiffDrive(0.1, 0.4).wheel_speeds([0.1, 0.2], [0.0, 1.0, 2.0]),
+         "do not broadcast together"),
+        (lambda: arc_pose((0.0, 0.0), 1.0, 1.0, 1.0), r"pose must have shape \(\.\.\., 3\)"),
+        (lambda: arc_pose([[0.0, 0.0, 0.0]] * 2, [1.0, 2.0, 3.0], 1.0, 1.0),
+         "do not broadcast together"),
+        (lambda: arc_pose((0.0, 0.0, 0.0), np.nan, 1.0, 1.0), "v must be finite"),
+    ],
+)  # fmt: skip
+def test_shape_and_value_errors_name_the_argument(call, match):
+    with pytest.raises(InvalidInputError, match=match):
+        call()

@@ -416,3 +416,49 @@ def test_phase_law():
         phase_law("drive", 2.0, 1.0, 0.5, None, "scurve", None, None, units)
     with pytest.raises(InvalidInputError, match=r"profile must be 'trapezoid' or 'scurve'"):
         phase_law("drive", 2.0, 1.0, 0.5, None, "cubic", None, None, units)  # type: ignore[arg-type]
+
+
+# Limits by direction, wheels and the plan's own limits --------------------------
+def test_asymmetric_speed_limits_count_on_the_side_the_phase_moves():
+    limits = MobileLimits(velocity=(-0.1, 0.5), acceleration=1.0, angular_velocity=1.0,
+                          angular_acceleration=1.0)  # fmt: skip
+    ahead = rotate_translate_rotate((1.0, 0.0), limits=limits)
+    assert ahead.info["phase_durations"] == pytest.approx((trapezoid_time(1.0, 0.5, 1.0),),
+                                                          rel=CLOSED_FORM)  # fmt: skip
+    behind = rotate_translate_rotate((-1.0, 0.0), limits=limits, reverse=True)
+    assert behind.info["phase_durations"] == pytest.approx((trapezoid_time(1.0, 0.1, 1.0),),
+                                                           rel=CLOSED_FORM)  # fmt: skip
+    assert ahead.check().ok and behind.check().ok
+
+
+def test_forward_only_limits_refuse_a_reverse_drive_but_plan_forwards():
+    limits = MobileLimits(velocity=(0.0, 0.5), acceleration=1.0, angular_velocity=1.0,
+                          angular_acceleration=1.0)  # fmt: skip
+    assert rotate_translate_rotate((1.0, 1.0), limits=limits).check().ok
+    with pytest.raises(tk.InfeasibleError, match=r"moves backwards .* allow no speed that way"):
+        rotate_translate_rotate((-1.0, 0.0), limits=limits, reverse=True)
+
+
+def test_wheel_limit_caps_drive_and_turn_speeds():
+    model = DiffDrive(0.1, 0.5, wheel_speed_limit=5.0,
+                      limits=MobileLimits(velocity=1.0, angular_velocity=5.0, acceleration=1.0,
+                                          angular_acceleration=50.0))  # fmt: skip
+    plan = rotate_translate_rotate((2.0, 1.0, 1.0), model=model)
+    report = plan.check()
+    assert report.ok
+    # Drive: both wheels at 5 rad/s -> 0.5 m/s; turns: one wheel each way -> 2 rad/s.
+    assert report.peaks["velocity"][1][0] == pytest.approx(0.5, rel=CLOSED_FORM)
+    assert report.peaks["angular velocity"][1][0] == pytest.approx(2.0, rel=CLOSED_FORM)
+    assert report.peaks["wheel speed"][1].max() == pytest.approx(5.0, rel=CLOSED_FORM)
+
+
+def test_a_plan_keeps_the_limits_it_was_made_for():
+    limits = MobileLimits(velocity=0.3, angular_velocity=0.5, acceleration=0.2,
+                          angular_acceleration=0.4)  # fmt: skip
+    plan = rotate_translate_rotate((1.0, 1.0, 0.0), limits=limits, model=jackal())
+    assert plan.limits == limits
+    assert plan.check().bounds["velocity"][1][0] == 0.3  # not the Jackal's 2 m/s
+    given = rotate_translate_rotate((1.0, 1.0), limits=limits, vmax=0.2)
+    assert float(given.limits.velocity.upper) == 0.2
+    with pytest.raises(InvalidInputError, match="reverse must be True or False"):
+        rotate_translate_rotate((1.0, 1.0), limits=limits, reverse="no")

@@ -421,3 +421,31 @@ def test_error_after_against_the_clock_or_along_the_path():
     assert run.error_after(10.0, along_path=True) == run.path_distance[late].max()
     # Pure pursuit follows the path, not the clock: it lags far more than it strays.
     assert run.error_after(10.0, along_path=True) < 0.05 < run.error_after(10.0)
+
+
+def test_a_position_alone_starts_with_the_plans_heading():
+    import trajkit.mobile as m
+
+    plan = m.flat_trajectory(m.FigureEight(2.0, 1.0, 20.0))
+    run = m.simulate(plan, m.Kanayama(), dt=0.05, duration=1.0, initial_pose=(0.1, 0.0))
+    np.testing.assert_array_equal(run.actual[0], [0.1, 0.0, plan.start_pose[2]])
+
+
+def test_simulation_defaults_to_the_plans_limits():
+    import trajkit.mobile as m
+
+    slow = m.MobileLimits(velocity=0.3, angular_velocity=1.0)
+    plan = m.flat_trajectory(m.FigureEight(2.0, 1.0, 20.0), model=m.jackal(), limits=slow,
+                             timing="within_limits")  # fmt: skip
+    run = m.simulate(plan, m.Kanayama(), dt=0.02, initial_pose=(0.3, 0.3, 1.3))
+    assert np.abs(run.commands[:, 0]).max() <= 0.3 * (1 + 1e-12)  # not the Jackal's 2 m/s
+
+
+def test_too_many_samples_are_refused():
+    import trajkit.mobile as m
+
+    plan = m.constant_twist(0.1, 0.1, 20.0)
+    with pytest.raises(InvalidInputError, match=r"gives 2e\+10 samples; at most 1e\+08"):
+        m.simulate(plan, dt=1e-9)
+    with pytest.raises(InvalidInputError, match=r"commands; at most 1e\+08"):
+        m.constant_twist(0.1, 0.1, 1e9, rate_hz=10.0).commands(10.0)

@@ -332,11 +332,13 @@ def saturate(v: float, omega: float, model: Model, limits: MobileLimits) -> tupl
         left = (v - omega * half) / model.wheel_radius
         right = (v + omega * half) / model.wheel_radius
         factor = 1.0
-        for speed in (left, right):
-            if speed > 0.0:
-                factor = min(factor, float(limits.wheel_speed.upper) / speed)
-            elif speed < 0.0:
-                factor = min(factor, float(limits.wheel_speed.lower) / speed)
+        lower, upper = float(limits.wheel_speed.lower), float(limits.wheel_speed.upper)
+        for speed in (float(left), float(right)):
+            # Only a wheel past its limit scales the command (and no tiny speed divides).
+            if speed > upper:
+                factor = min(factor, upper / speed)
+            elif speed < lower:
+                factor = min(factor, lower / speed)
         v, omega = v * factor, omega * factor
     return v, omega
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit._validation import FloatArray, finite_array, finite_scalar, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.mobile.limits import MobileLimits, check_limits
 
@@ -128,16 +128,25 @@ class DiffDrive:
                 f"got {multiplier:g}"
             )
         object.__setattr__(self, "track_multiplier", multiplier)
-        wheelbase = float(finite_array("wheelbase", self.wheelbase))
+        wheelbase = finite_scalar("wheelbase", self.wheelbase, unit="m")
         if wheelbase < 0.0:
             raise InvalidInputError(f"wheelbase must be >= 0 m, got {wheelbase:g} m")
         object.__setattr__(self, "wheelbase", wheelbase)
         if self.mass is not None:
             object.__setattr__(self, "mass", positive_scalar("mass", self.mass, unit="kg"))
+        in_limits = self.limits.magnitude("wheel_speed")
         if self.wheel_speed_limit is not None:
             limit = positive_scalar("wheel_speed_limit", self.wheel_speed_limit, unit="rad/s")
+            given = self.limits.wheel_speed
+            if given is not None and (float(given.lower), float(given.upper)) != (-limit, limit):
+                raise InvalidInputError(
+                    f"wheel_speed_limit={limit:g} rad/s disagrees with limits.wheel_speed "
+                    f"({float(given.lower):g}, {float(given.upper):g}); give the wheel limit once"
+                )
             object.__setattr__(self, "wheel_speed_limit", limit)
             object.__setattr__(self, "limits", self.limits.replace(wheel_speed=limit))
+        elif in_limits is not None:
+            object.__setattr__(self, "wheel_speed_limit", in_limits)
 
     @property
     def effective_track(self) -> float:
@@ -148,6 +157,12 @@ class DiffDrive:
         """Left and right wheel speeds (rad/s) for twists ``(v, ω)``: shape ``(..., 2)``."""
         v = finite_array("v", v, unit="m/s")
         omega = finite_array("omega", omega, unit="rad/s")
+        try:
+            np.broadcast_shapes(v.shape, omega.shape)
+        except ValueError:
+            raise InvalidInputError(
+                f"v (shape {v.shape}) and omega (shape {omega.shape}) do not broadcast together"
+            ) from None
         half = 0.5 * self.effective_track * omega
         return np.stack([(v - half) / self.wheel_radius, (v + half) / self.wheel_radius], axis=-1)
 
@@ -208,8 +223,21 @@ def arc_pose(pose: ArrayLike, v: ArrayLike, omega: ArrayLike, duration: ArrayLik
     With ``Δθ = ω t`` the chord has length ``v t sinc(Δθ / 2)`` along the mean
     heading ``θ + Δθ / 2``; this is exact for any ``ω`` and has no 0/0 at ``ω = 0``.
     """
-    pose = np.asarray(pose, dtype=float)
-    v, omega, duration = (np.asarray(x, dtype=float) for x in (v, omega, duration))
+    pose = finite_array("pose", pose)
+    if pose.ndim == 0 or pose.shape[-1] != 3:
+        raise InvalidInputError(
+            f"pose must have shape (..., 3): x, y, theta in m, m, rad; got shape {pose.shape}"
+        )
+    v = finite_array("v", v, unit="m/s")
+    omega = finite_array("omega", omega, unit="rad/s")
+    duration = finite_array("duration", duration, unit="s")
+    try:
+        np.broadcast_shapes(pose.shape[:-1], v.shape, omega.shape, duration.shape)
+    except ValueError:
+        raise InvalidInputError(
+            f"pose (shape {pose.shape}), v {v.shape}, omega {omega.shape} and duration "
+            f"{duration.shape} do not broadcast together"
+        ) from None
     turn = omega * duration
     chord = v * duration * np.sinc(turn / (2.0 * np.pi))  # np.sinc(x) = sin(πx)/(πx)
     middle = pose[..., 2] + turn / 2.0

@@ -179,7 +179,8 @@ def simulate(
     dt : float
         Integration and logging step (s).
     initial_pose : array_like, optional
-        Where the robot starts (default: the plan's start pose).
+        Where the robot starts, ``(x, y, θ)`` or ``(x, y)`` with the plan's start
+        heading (default: the plan's start pose).
     duration : float, optional
         How long to simulate (s); default the plan's duration. After the plan's
         end the desired state stands still at its last pose.
@@ -216,7 +217,11 @@ def simulate(
     end = plan.duration if duration is None else positive_scalar("duration", duration, unit="s")
     if end <= 0.0:
         raise InvalidInputError("the plan has no duration to simulate; pass duration=")
-    start = plan.start_pose if initial_pose is None else pose_array("initial_pose", initial_pose)
+    start = plan.start_pose
+    if initial_pose is not None:
+        given = finite_array("initial_pose", initial_pose)
+        # A position alone starts with the plan's heading.
+        start = pose_array("initial_pose", [*given, start[2]] if given.shape == (2,) else given)
     robot = plan.model if model is None else resolve_model(model)
     if limits is None:
         limits = plan.limits if model is None else robot.limits
