@@ -207,6 +207,7 @@ class _LinearizationLaw(_StatelessLaw):
 
 
 _PATH_POINTS = 4000  # samples of the plan's path that pure pursuit steers along
+_CRAWL = 0.05  # pure pursuit's least speed, a fraction of the plan's peak, until the end
 
 
 @dataclass(frozen=True)
@@ -214,9 +215,10 @@ class PurePursuit:
     """Pure pursuit: steer along the arc to a point ``lookahead`` metres ahead on the path.
 
     The path is the plan's, sampled densely; the speed is the plan's at the
-    nearest path point (or ``speed``), so the robot follows the path, not the
-    clock. Curvature ``κ = 2 y_L / L²`` for the look-ahead point at distance ``L``
-    and lateral offset ``y_L`` in the robot frame; ``ω = v κ``.
+    nearest path point (at least 5 % of its peak, so that a plan from rest gets
+    going), or ``speed``: the robot follows the path, not the clock, and stops
+    at its end. It cannot turn in place. Curvature ``κ = 2 y_L / L²`` for the
+    look-ahead point at distance ``L`` and lateral offset ``y_L`` in the robot frame; ``ω = v κ``.
 
     Parameters
     ----------
@@ -250,6 +252,7 @@ class _PursuitLaw(_StatelessLaw):
         keep = np.concatenate([[True], steps > 0.0])
         self.path, self.speeds = path[keep], speeds[keep]
         self.lookahead, self.speed = lookahead, speed
+        self.crawl = _CRAWL * float(np.abs(speeds).max())
         self.arclength = np.concatenate([[0.0], np.cumsum(steps[keep[1:]])])
         self.nearest = 0
         # Search only a window ahead: a crossing curve (a figure eight) has two near points.
@@ -276,11 +279,10 @@ class _PursuitLaw(_StatelessLaw):
             remaining = self.arclength[-1] - self.arclength[self.nearest]
             v = self.speed * min(1.0, remaining / self.lookahead)
         else:
-            # The plan's speed here or at the look-ahead point, whichever is larger:
+            # The plan's speed where the robot is on the path, but at least a crawl:
             # a plan that starts at rest would otherwise never get the robot going.
             here, there = float(self.speeds[self.nearest]), float(self.speeds[index])
-            v = max(abs(here), abs(there))
-            v = math.copysign(v, there if there != 0.0 else here)
+            v = math.copysign(max(abs(here), self.crawl), here if here != 0.0 else there)
         if self.nearest >= last:
             v = 0.0  # the end of the path is reached
         curvature = 2.0 * lateral / distance2 if distance2 > 1e-18 else 0.0
