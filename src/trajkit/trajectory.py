@@ -433,7 +433,7 @@ MAX_SAMPLES = 100_000_000  # more would not fit in memory several times over: re
 def sample_count(span: float, step: float, name: str = "dt") -> int:
     """``floor(span / step)`` (up to rounding), refusing grids beyond :data:`MAX_SAMPLES`."""
     ratio = span / step
-    if not ratio < MAX_SAMPLES:
+    if not ratio <= MAX_SAMPLES:
         raise InvalidInputError(
             f"{name}={step:g} s over {span:g} s gives {ratio:.3g} samples; at most "
             f"{MAX_SAMPLES:.0e} are made: use a longer {name}"

@@ -374,3 +374,14 @@ def test_trackers_converge_driving_backwards(controller):
     run = simulate(plan, controller, dt=0.01, initial_pose=(0.0, 0.1, 0.1))
     assert run.final_position_error < 5e-3
     assert run.final_heading_error < np.radians(1.0)
+
+
+def test_pure_pursuit_at_a_constant_speed_follows_a_reverse_plan_backwards():
+    from trajkit.mobile import rotate_translate_rotate
+
+    limits = MobileLimits(velocity=0.5, angular_velocity=1.0, acceleration=1.0,
+                          angular_acceleration=1.0)  # fmt: skip
+    plan = rotate_translate_rotate((-2.0, 0.5, 0.0), limits=limits, reverse=True)
+    run = simulate(plan, PurePursuit(speed=0.3), dt=0.01, duration=plan.duration + 5.0)
+    assert run.commands[len(run.t) // 2, 0] == pytest.approx(-0.3)
+    assert run.max_path_distance < 0.05 and run.final_position_error < 0.01

@@ -646,3 +646,62 @@ def test_fitted_curve_keeps_its_limits_for_check_and_simulation():
     assert plan.check().bounds["velocity"][1][0] == 0.3
     assert plan.info["time_scale"] == pytest.approx(0.444288293816 / 0.3, rel=1e-9)
     assert isinstance(plan.info["time_scale"], float)
+
+
+def _from_velocity(vx: np.ndarray, vy: np.ndarray) -> tk.Trajectory:
+    """The one-piece Trajectory whose velocity has these ascending polynomial coefficients."""
+    poly = np.polynomial.polynomial
+    x, y = poly.polyint(vx), poly.polyint(vy)
+    degree = max(len(x), len(y))
+    c = np.zeros((degree, 1, 2))
+    c[degree - len(x) :, 0, 0], c[degree - len(y) :, 0, 1] = x[::-1], y[::-1]
+    return tk.Trajectory([0.0, 1.0], c)
+
+
+def test_a_near_stop_after_a_real_stop_keeps_the_closed_forms():
+    # ṗ = t ((t - 0.4)² + 0.05²)³ (1, 1.5 t): a stop at 0, a dip to ~1e-7 of the peak at 0.4;
+    # ẏ/ẋ = 1.5 t everywhere, so θ = atan(1.5 t) and ω = 1.5 / (1 + 2.25 t²) exactly.
+    poly = np.polynomial.polynomial
+    speed = poly.polymul([0.0, 1.0], poly.polypow(poly.polyadd(poly.polypow([-0.4, 1.0], 2),
+                                                                [0.05**2]), 3))  # fmt: skip
+    plan = flat_trajectory(_from_velocity(speed, poly.polymul(speed, [0.0, 1.5])))
+    assert plan.info["stops"] == ()
+    t = np.array([0.0, 1e-6, 0.3, 0.38, 0.4, 0.42, 0.6, 1.0])
+    state = plan.evaluate(t)
+    np.testing.assert_allclose(state.theta, np.arctan(1.5 * t), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(state.omega, 1.5 / (1 + 2.25 * t**2), rtol=1e-6)
+
+
+@pytest.mark.parametrize("px", [4, 5, 6])
+def test_high_order_stops_from_the_series(px):
+    # x = t^px, y = t^(px+1): ẏ/ẋ = k t with k = (px + 1) / px; a stop of order px - 1.
+    k = (px + 1) / px
+    plan = flat_trajectory(_power_output(px, px + 1))
+    t = np.array([0.0, 1e-9, 1e-4, 1e-2, 0.1, 0.2, 0.5])
+    state = plan.evaluate(t)
+    np.testing.assert_allclose(state.theta, np.arctan(k * t), rtol=0, atol=1e-11)
+    np.testing.assert_allclose(state.omega, k / (1 + (k * t) ** 2), rtol=1e-9)
+
+
+def test_a_high_order_rest_at_the_end_is_not_an_inner_stop():
+    # A septic rest-to-rest time law: its speed creeps to 0 as (1 - t)^3 at the end,
+    # with rounding ripples there; they must not count as a stop inside the curve.
+    law = tk.septic(0.0, 1.0, 1.0)
+    c = np.concatenate([law.coefficients, 0.5 * law.coefficients], axis=2)
+    plan = flat_trajectory(tk.Trajectory(law.breakpoints, c))
+    assert plan.info["stops"] == ()
+    np.testing.assert_allclose(plan.evaluate([0.0, 1.0]).theta, np.arctan(0.5), atol=1e-9)
+
+
+def test_a_curve_that_turns_as_it_stops_meets_the_inserted_turn_with_a_jump():
+    # A cubic arrives at rest at t = 1 still turning (ω = 1.5 rad/s), then leaves along +y.
+    # The inserted turn starts at ω = 0: documented, and check() reports -inf there.
+    c = np.zeros((4, 2, 2))
+    c[:, 0, 0], c[:, 0, 1] = [0, -1, 2, -1], [-1, 3, -3, 1]
+    c[:, 1, 1] = [0, 1, 0, 0]
+    plan = flat_trajectory(tk.Trajectory([0.0, 1.0, 2.0], c), stops="turn", limits=STOP_LIMITS)
+    assert [segment.kind for segment in plan.segments] == ["flat", "turn", "flat"]
+    curve = plan.segments[0]
+    assert curve.local_state(np.array([curve.duration]))[4][0] == pytest.approx(1.5, rel=1e-9)
+    jumps = [v for v in plan.check().violations if v.quantity == "angular acceleration"]
+    assert [(v.value, v.time) for v in jumps] == [(-np.inf, plan.breakpoints[1])]

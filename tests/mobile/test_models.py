@@ -401,3 +401,14 @@ def test_wheel_limit_given_once_or_consistently():
 def test_shape_and_value_errors_name_the_argument(call, match):
     with pytest.raises(InvalidInputError, match=match):
         call()
+
+
+def test_arc_pose_broadcasts_twists_over_one_pose():
+    poses = arc_pose((0.0, 0.0, 0.0), np.ones(4), 0.5, 1.0)
+    assert poses.shape == (4, 3)
+    np.testing.assert_array_equal(poses, np.tile(arc_pose((0.0, 0.0, 0.0), 1.0, 0.5, 1.0), (4, 1)))
+
+
+def test_a_one_sided_wheel_limit_reports_its_largest_magnitude():
+    model = DiffDrive(0.1, 0.4, limits=MobileLimits(wheel_speed=(0.0, 10.0)))
+    assert model.wheel_speed_limit == 10.0

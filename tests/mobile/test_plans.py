@@ -462,3 +462,10 @@ def test_a_plan_keeps_the_limits_it_was_made_for():
     assert float(given.limits.velocity.upper) == 0.2
     with pytest.raises(InvalidInputError, match="reverse must be True or False"):
         rotate_translate_rotate((1.0, 1.0), limits=limits, reverse="no")
+
+
+def test_absurd_command_counts_are_refused():
+    with pytest.raises(InvalidInputError, match=r"gives 1e\+10 commands; at most 1e\+08"):
+        constant_twist(0.1, 0.1, 1e9, rate_hz=10.0)
+    with pytest.raises(InvalidInputError, match="commands; at most"):
+        constant_twist(0.1, 0.1, 10.0, rate_hz=1e308)  # the product overflows to inf

@@ -225,7 +225,7 @@ class PurePursuit:
     lookahead : float
         Look-ahead distance (m).
     speed : float, optional
-        Constant forward speed (m/s) instead of the plan's.
+        Constant speed (m/s) instead of the plan's, in the plan's direction of travel.
     """
 
     lookahead: float = 0.3
@@ -277,7 +277,9 @@ class _PursuitLaw(_StatelessLaw):
         if self.speed is not None:
             # Slow down over the last look-ahead so as to stop at the end of the path.
             remaining = self.arclength[-1] - self.arclength[self.nearest]
-            v = self.speed * min(1.0, remaining / self.lookahead)
+            here, there = float(self.speeds[self.nearest]), float(self.speeds[index])
+            direction = here if here != 0.0 else there  # backwards where the plan reverses
+            v = math.copysign(self.speed * min(1.0, remaining / self.lookahead), direction)
         else:
             # The plan's speed where the robot is on the path, but at least a crawl:
             # a plan that starts at rest would otherwise never get the robot going.

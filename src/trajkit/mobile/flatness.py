@@ -48,6 +48,7 @@ _GRID = 4001  # grid points per curve segment for stops and extrema
 _REFINED_PEAKS = 8  # how many of the grid's best local extrema are refined
 _STOP = 1e-9  # a speed below this fraction of the peak speed is a stop
 _NEAR_STOP = 1e-4  # near a stop and below this fraction of the peak speed, use its series
+_SERIES_TERMS = 12  # derivatives of the output in the series at a stop
 _ONE_SIDED = 1e-13  # the series at a stop is taken this fraction of the span inside
 _INWARD = 1e-7  # directions of travel around a stop are read this fraction of the span away
 
@@ -215,10 +216,16 @@ class FlatSegment(Segment):
         self._peak_speed = float(np.linalg.norm(output.evaluate(grid, 1), axis=1).max()) or 1.0
         span = t_to - t_from
         self._stops = []  # the ends where the output stops, with its series there
+        speeds = np.linalg.norm(output.evaluate(grid, 1), axis=1)
+        fast = np.flatnonzero(speeds > _NEAR_STOP * self._peak_speed)
         for t_stop, side in ((t_from, 1.0), (t_to, -1.0)):
             near = np.array([t_stop + side * _ONE_SIDED * span])
             if np.linalg.norm(output.evaluate(near, 1)) <= _STOP * self._peak_speed:
-                self._stops.append(_StopSeries(output, t_stop, side, span, self._peak_speed))
+                # The series serve up to where the speed first rises past the switch,
+                # not a later dip (a near-stop), which the closed forms handle.
+                edge = grid[fast[0]] if side > 0 else grid[fast[-1]]
+                reach = abs(edge - t_stop) if fast.size else span / 2
+                self._stops.append(_StopSeries(output, t_stop, side, span, self._peak_speed, reach))
         raw = self._state(self._grid, unwrap=False)
         theta = np.unwrap(raw[2])
         if heading_near is not None:
@@ -238,7 +245,7 @@ class FlatSegment(Segment):
         for stop in self._stops:
             # The formulas divide by the speed: near a stop its Taylor series replace them.
             after = (t - stop.time) * stop.side
-            near = slow & (after >= 0.0) & (after <= (self.t_to - self.t_from) / 2)
+            near = slow & (after >= 0.0) & (after <= stop.reach)
             if np.any(near):
                 series = stop.state(t[near] - stop.time, self.sign)
                 theta[near], omega[near] = series[0], series[1]
@@ -312,7 +319,8 @@ class _StopSeries:
     acceleration). ``ω = (ṗ × p̈) / |ṗ|²`` is then a ratio of two series with the
     same leading power ``τ^(2m)``, which cancels: evaluating the ratio of the
     remaining series avoids the 0/0 and the cancellation of the closed forms.
-    Derivatives 1 to 7 are used, so ``ω`` is exact to ``O(τ^(6-m))``.
+    Derivatives 1 to 12 are used, so ``ω`` is exact to ``O(τ^(11-m))`` (exactly
+    for a polynomial output of degree up to 12).
 
     ``side`` is +1 for a stop at the start of a segment (the motion after it), -1
     for one at the end (the motion before it); the derivatives are taken on that
@@ -320,23 +328,34 @@ class _StopSeries:
     """
 
     def __init__(
-        self, output: FlatOutput, time: float, side: float, span: float, peak: float
+        self,
+        output: FlatOutput,
+        time: float,
+        side: float,
+        span: float,
+        peak: float,
+        reach: float,
     ) -> None:
-        self.time, self.side = time, side
+        self.time, self.side, self.reach = time, side, reach
         near = np.array([time + side * _ONE_SIDED * span])
-        derivatives = np.array([output.evaluate(near, order)[0] for order in range(1, 8)])
+        derivatives = np.array(
+            [output.evaluate(near, order)[0] for order in range(1, _SERIES_TERMS + 1)]
+        )
         factorials = np.cumprod([1.0, *range(1, derivatives.shape[0])])
         series = derivatives / factorials[:, np.newaxis]
         series[0] = 0.0  # the speed vanishes here by definition
-        size = np.linalg.norm(series, axis=1)
-        rate = peak / max(span, 1e-300)  # m/s per s: what counts as a zero coefficient
-        nonzero = np.flatnonzero(size > 1e-9 * rate * np.maximum(1.0, np.abs(series).max()))
-        if nonzero.size == 0 or nonzero[0] > 4:
+        # A coefficient counts when its term reaches 1e-9 of the peak speed over the
+        # segment: the same rule whatever the unit of time.
+        size = np.linalg.norm(series, axis=1) * span ** np.arange(series.shape[0])
+        nonzero = np.flatnonzero(size > 1e-9 * peak)
+        if nonzero.size == 0 or nonzero[0] > _SERIES_TERMS - 4:
             raise InfeasibleError(
-                f"the flat output rests at t={time:.6g} s with no derivative up to the 5th "
+                f"the flat output rests at t={time:.6g} s with no derivative up to the "
+                f"{_SERIES_TERMS - 2}th "
                 "to give a heading (does it stand still for a while?); remove the pause"
             )
         m = int(nonzero[0])
+        series[:m] = 0.0  # lower orders are rounding noise that would steer the heading
         self.series, self.order = series, m
         self.rate = series[1:] * np.arange(1, series.shape[0])[:, np.newaxis]  # p̈(τ)
         numerator = np.convolve(series[:, 0], self.rate[:, 1]) - np.convolve(
@@ -345,7 +364,7 @@ class _StopSeries:
         denominator = np.convolve(series[:, 0], series[:, 0]) + np.convolve(
             series[:, 1], series[:, 1]
         )
-        reliable = 6 - m  # terms of the reduced series that the 7 derivatives determine
+        reliable = _SERIES_TERMS - 1 - m  # terms of the reduced series the derivatives fix
         self.numerator = numerator[2 * m : 2 * m + reliable]
         self.denominator = denominator[2 * m : 2 * m + reliable]
 
@@ -390,7 +409,11 @@ def _stops(output: FlatOutput) -> tuple[list[float], float]:
             options={"xatol": 1e-14 * output.duration},
         )
         t, low = _refine_stop(output, float(found.x), float(found.fun), grid[i - 1], grid[i + 1])
-        if low <= _STOP * peak:
+        # A dip inside an end's own slow approach (a high-order rest, where rounding
+        # makes ripples) is that end's stop, not one inside the curve.
+        before, after = speed[: i + 1], speed[i:]
+        inside = before.max() > _NEAR_STOP * peak and after.max() > _NEAR_STOP * peak
+        if low <= _STOP * peak and inside:
             # Near a breakpoint the search ends a little off it (|ṗ| is flat there):
             # the stop is at the breakpoint, where the output's pieces meet.
             closest = output.breakpoints[np.argmin(np.abs(output.breakpoints - t))]
@@ -456,6 +479,10 @@ def flat_trajectory(
         Where the speed vanishes inside the curve: raise, stop and turn in place
         to the new direction (needs angular velocity and acceleration limits),
         or drive on backwards (where the curve reverses on itself, a cusp).
+        A curve that still turns as it stops (ω ≠ 0 there) meets the inserted
+        turn, which starts and ends at ω = 0, with a jump in ω: :meth:`check`
+        reports it as an unbounded angular acceleration, and no time scaling
+        removes it.
 
     Returns
     -------

@@ -134,7 +134,6 @@ class DiffDrive:
         object.__setattr__(self, "wheelbase", wheelbase)
         if self.mass is not None:
             object.__setattr__(self, "mass", positive_scalar("mass", self.mass, unit="kg"))
-        in_limits = self.limits.magnitude("wheel_speed")
         if self.wheel_speed_limit is not None:
             limit = positive_scalar("wheel_speed_limit", self.wheel_speed_limit, unit="rad/s")
             given = self.limits.wheel_speed
@@ -145,8 +144,10 @@ class DiffDrive:
                 )
             object.__setattr__(self, "wheel_speed_limit", limit)
             object.__setattr__(self, "limits", self.limits.replace(wheel_speed=limit))
-        elif in_limits is not None:
-            object.__setattr__(self, "wheel_speed_limit", in_limits)
+        elif self.limits.wheel_speed is not None:
+            bounds = self.limits.wheel_speed
+            largest = max(-float(bounds.lower), float(bounds.upper))
+            object.__setattr__(self, "wheel_speed_limit", largest)
 
     @property
     def effective_track(self) -> float:
@@ -238,6 +239,9 @@ def arc_pose(pose: ArrayLike, v: ArrayLike, omega: ArrayLike, duration: ArrayLik
             f"pose (shape {pose.shape}), v {v.shape}, omega {omega.shape} and duration "
             f"{duration.shape} do not broadcast together"
         ) from None
+    shape = np.broadcast_shapes(pose.shape[:-1], v.shape, omega.shape, duration.shape)
+    v, omega, duration = (np.broadcast_to(x, shape) for x in (v, omega, duration))
+    pose = np.broadcast_to(pose, (*shape, 3))
     turn = omega * duration
     chord = v * duration * np.sinc(turn / (2.0 * np.pi))  # np.sinc(x) = sin(πx)/(πx)
     middle = pose[..., 2] + turn / 2.0

@@ -74,13 +74,7 @@ def command_times(duration: float, rate_hz: float) -> FloatArray:
     At least one (``t = 0``); an end that falls on a command time, up to rounding,
     gets no command of its own.
     """
-    count = command_count(duration, rate_hz)
-    if count > MAX_SAMPLES:
-        raise InvalidInputError(
-            f"rate_hz={rate_hz:g} Hz over {duration:g} s gives {count:.3g} commands; at most "
-            f"{MAX_SAMPLES:.0e} are made"
-        )
-    return (1.0 / rate_hz) * np.arange(count)
+    return (1.0 / rate_hz) * np.arange(command_count(duration, rate_hz))
 
 
 def command_count(duration: float, rate_hz: float) -> int:
@@ -88,7 +82,13 @@ def command_count(duration: float, rate_hz: float) -> int:
 
     A command within a billionth of a period of the end is not sent.
     """
-    return max(int(np.ceil(duration * rate_hz - 1e-9)), 1)
+    periods = duration * rate_hz
+    if not periods <= MAX_SAMPLES:
+        raise InvalidInputError(
+            f"rate_hz={rate_hz:g} Hz over {duration:g} s gives {periods:.3g} commands; at most "
+            f"{MAX_SAMPLES:.0e} are made"
+        )
+    return max(int(np.ceil(periods - 1e-9)), 1)
 
 
 # The local state of a segment: x, y, θ, v, ω, dv/dt, dω/dt at each local time.
