@@ -114,7 +114,7 @@ def _limits(model: Model, args: argparse.Namespace) -> MobileLimits:
     return model.limits.replace(**changes)
 
 
-def describe(plan: MobileTrajectory, limits: MobileLimits | None = None) -> str:
+def describe(plan: MobileTrajectory) -> str:
     """A few lines about a plan: what it is, where it goes, and its limit check."""
     info = plan.info
     start, end = plan.start_pose, plan.end_pose
@@ -138,7 +138,7 @@ def describe(plan: MobileTrajectory, limits: MobileLimits | None = None) -> str:
         if info.get("limited_by"):
             line += f" (set by the {info['limited_by']} limit)"
         lines.append(line)
-    report = plan.check(limits)
+    report = plan.check()
     lines += ["  " + line for line in str(report).splitlines()]
     return "\n".join(lines)
 
@@ -187,10 +187,7 @@ def run_mobile(args: argparse.Namespace) -> int:
         plan = rotate_translate_rotate(
             goal,
             args.start,
-            vmax=limits.magnitude("velocity"),
-            wmax=limits.magnitude("angular_velocity"),
-            amax=limits.magnitude("acceleration"),
-            alpha_max=limits.magnitude("angular_acceleration"),
+            limits=limits,
             jmax=args.jmax,
             angular_jmax=None if args.angular_jmax_deg is None
             else np.radians(args.angular_jmax_deg),
@@ -209,10 +206,10 @@ def run_mobile(args: argparse.Namespace) -> int:
         start = plan.start_pose + np.array([dx, dy, np.radians(dtheta)])
         log = simulate(
             plan, controller_named(args.controller), dt=args.dt, initial_pose=start,
-            command_rate_hz=args.rate_hz, limits=limits,
+            command_rate_hz=args.rate_hz,
         )  # fmt: skip
         title = f"figure eight {args.width:g} m x {args.height:g} m, {args.controller}"
-    print(describe(plan, limits))
+    print(describe(plan))
     if log is not None:
         print(f"tracking ({args.dt:g} s steps): {log.summary()}")
     for path in _write(args, plan, log, title):

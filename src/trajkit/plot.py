@@ -291,20 +291,18 @@ def mobile(
     -------
     matplotlib.figure.Figure
     """
+    from trajkit.mobile.trajectory import world_velocity
+
     times, desired, actual = _mobile_series(data)
     positive_scalar("width", width)
     figure = Figure(figsize=(width, 8.8), layout="constrained")
     axes = figure.subplots(4, 1, sharex=True)
 
-    def world(series: dict) -> np.ndarray:
-        v, theta = series["twist"][:, 0], series["pose"][:, 2]
-        return np.stack([v * np.cos(theta), v * np.sin(theta)], axis=1)
-
     runs = [("planned", desired, "--" if actual is not None else "-")]
     if actual is not None:
         runs.append(("actual", actual, "-"))
     for label, series, style in runs:
-        velocity = world(series)
+        velocity = world_velocity(series["twist"][:, 0], series["pose"][:, 2])
         axes[0].plot(times, velocity[:, 0], style, color="C0", label=f"ẋ {label}")
         axes[0].plot(times, velocity[:, 1], style, color="C1", label=f"ẏ {label}")
         axes[1].plot(times, series["twist"][:, 1], style, color="C2", label=f"ω {label}")

@@ -29,7 +29,8 @@ from trajkit.mobile import (
     jackal,
     rotate_translate_rotate,
 )
-from trajkit.mobile.plans import phase_law, resolve_model
+from trajkit.mobile.models import resolve_model
+from trajkit.mobile.plans import phase_law
 
 sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
 import support

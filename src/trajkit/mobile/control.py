@@ -17,6 +17,7 @@ from scipy.spatial import cKDTree
 
 from trajkit._validation import FloatArray, positive_scalar
 from trajkit.errors import InvalidInputError
+from trajkit.limits import Bounds
 from trajkit.mobile.limits import MobileLimits
 from trajkit.mobile.models import DiffDrive, Model
 from trajkit.mobile.trajectory import MobileTrajectory
@@ -325,12 +326,7 @@ def saturate(v: float, omega: float, model: Model, limits: MobileLimits) -> tupl
     When a wheel would pass its limit, both ``v`` and ``ω`` are scaled down by the
     same factor, which keeps the path's curvature.
     """
-    for attribute, index in (("velocity", 0), ("angular_velocity", 1)):
-        bounds = getattr(limits, attribute)
-        if bounds is not None:
-            value = (v, omega)[index]
-            value = min(max(value, float(bounds.lower)), float(bounds.upper))
-            v, omega = (value, omega) if index == 0 else (v, value)
+    v, omega = _clip(v, limits.velocity), _clip(omega, limits.angular_velocity)
     if isinstance(model, DiffDrive) and limits.wheel_speed is not None:
         half = model.effective_track / 2.0
         left = (v - omega * half) / model.wheel_radius
@@ -345,6 +341,12 @@ def saturate(v: float, omega: float, model: Model, limits: MobileLimits) -> tupl
                 factor = min(factor, lower / speed)
         v, omega = v * factor, omega * factor
     return v, omega
+
+
+def _clip(value: float, bounds: Bounds | None) -> float:
+    if bounds is None:
+        return value
+    return min(max(value, float(bounds.lower)), float(bounds.upper))
 
 
 def controller_named(name: str) -> Controller:

@@ -27,9 +27,15 @@ from scipy.optimize import minimize_scalar
 from trajkit._validation import FloatArray, finite_array, increasing_times, positive_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
-from trajkit.mobile.models import Model, wrap_angle
-from trajkit.mobile.plans import phase_law, phase_limits, resolve_model
-from trajkit.mobile.trajectory import LocalState, MobileTrajectory, Segment, Turn, _channels
+from trajkit.mobile.models import Model, resolve_model, wrap_angle
+from trajkit.mobile.plans import plan_phase
+from trajkit.mobile.trajectory import (
+    LocalState,
+    MobileTrajectory,
+    Segment,
+    Turn,
+    channel_weights,
+)
 from trajkit.profiles import cubic_spline
 from trajkit.trajectory import Trajectory
 
@@ -213,10 +219,10 @@ class FlatSegment(Segment):
         grid = np.union1d(np.linspace(t_from, t_to, _GRID), inside)
         self._grid = (grid - t_from) * scale  # local times
         self._theta_grid: FloatArray | None = None
-        self._peak_speed = float(np.linalg.norm(output.evaluate(grid, 1), axis=1).max()) or 1.0
+        speeds = np.linalg.norm(output.evaluate(grid, 1), axis=1)
+        self._peak_speed = float(speeds.max()) or 1.0
         span = t_to - t_from
         self._stops = []  # the ends where the output stops, with its series there
-        speeds = np.linalg.norm(output.evaluate(grid, 1), axis=1)
         fast = np.flatnonzero(speeds > _NEAR_STOP * self._peak_speed)
         for t_stop, side in ((t_from, 1.0), (t_to, -1.0)):
             near = np.array([t_stop + side * _ONE_SIDED * span])
@@ -558,10 +564,8 @@ def flat_trajectory(
             # The curve's heading is the turn count nearest the last: turns go the short way.
             turn = 0.0 if heading is None else float(curve.start_pose[2] - heading)
             if stops == "turn" and abs(turn) > 1e-9:
-                label = f"turn at the stop at t={edges[i]:.6g} s"
-                speed, change = phase_limits(label, "turn", turn, limits, base)
-                law = phase_law(label, turn, speed, change, None, "trapezoid", None, None,
-                                ("rad", "rad/s", "rad/s^2"), ("wmax", "alpha_max", ""))  # fmt: skip
+                law = plan_phase(f"turn at the stop at t={edges[i]:.6g} s", "turn", turn, limits,
+                                 base)  # fmt: skip
                 segments.append(Turn(segments[-1].end_pose, law))
             segments.append(curve)
         return segments
@@ -599,7 +603,7 @@ def _uniform_scale(
         bounds = getattr(limits, attribute)
         if bounds is None:
             continue
-        order, weights = _channels(attribute, model)
+        order, weights = channel_weights(attribute, model)
         for _, cv, cw in weights:
             for curve in curves:
                 low, t_low, high, t_high = curve.extrema(order, cv, cw)

@@ -23,9 +23,11 @@ __all__ = [
     "Model",
     "Unicycle",
     "arc_pose",
+    "constant_twist_pose",
     "jackal",
     "pose_array",
     "propagate",
+    "resolve_model",
     "rk4_step",
     "wrap_angle",
 ]
@@ -182,6 +184,17 @@ class DiffDrive:
 Model = Unicycle | DiffDrive
 
 
+def resolve_model(model: object) -> Model:
+    """``model``, once known to be a Unicycle or DiffDrive; a plain Unicycle for None."""
+    if model is None:
+        return Unicycle()
+    if not isinstance(model, Unicycle | DiffDrive):
+        raise InvalidInputError(
+            f"model must be a trajkit.mobile Unicycle or DiffDrive, got {type(model).__name__}"
+        )
+    return model
+
+
 def jackal() -> DiffDrive:
     """Clearpath Jackal: a four-wheel skid-steer base, with its published figures.
 
@@ -241,7 +254,16 @@ def arc_pose(pose: ArrayLike, v: ArrayLike, omega: ArrayLike, duration: ArrayLik
         ) from None
     shape = np.broadcast_shapes(pose.shape[:-1], v.shape, omega.shape, duration.shape)
     v, omega, duration = (np.broadcast_to(x, shape) for x in (v, omega, duration))
-    pose = np.broadcast_to(pose, (*shape, 3))
+    return constant_twist_pose(np.broadcast_to(pose, (*shape, 3)), v, omega, duration)
+
+
+def constant_twist_pose(
+    pose: FloatArray, v: ArrayLike, omega: ArrayLike, duration: ArrayLike
+) -> FloatArray:
+    """:func:`arc_pose` without its checks, for callers whose inputs are already valid.
+
+    The inputs must broadcast to the poses' leading shape.
+    """
     turn = omega * duration
     chord = v * duration * np.sinc(turn / (2.0 * np.pi))  # np.sinc(x) = sin(πx)/(πx)
     middle = pose[..., 2] + turn / 2.0

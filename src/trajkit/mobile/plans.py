@@ -13,8 +13,8 @@ from trajkit.mobile.limits import MobileLimits, check_limits
 from trajkit.mobile.models import (
     DiffDrive,
     Model,
-    Unicycle,
     pose_array,
+    resolve_model,
     wrap_angle,
 )
 from trajkit.mobile.trajectory import (
@@ -28,20 +28,9 @@ from trajkit.mobile.trajectory import (
 from trajkit.profiles import scurve, trapezoidal
 from trajkit.trajectory import Trajectory
 
-__all__ = ["constant_twist", "phase_law", "resolve_model", "rotate_translate_rotate"]
+__all__ = ["constant_twist", "phase_law", "phase_limits", "plan_phase", "rotate_translate_rotate"]
 
 Profile = Literal["trapezoid", "scurve"]
-
-
-def resolve_model(model: Model | None) -> Model:
-    """``model``, checked, or a plain :class:`Unicycle` when it is None."""
-    if model is None:
-        return Unicycle()
-    if not isinstance(model, Unicycle | DiffDrive):
-        raise InvalidInputError(
-            f"model must be a trajkit.mobile Unicycle or DiffDrive, got {type(model).__name__}"
-        )
-    return model
 
 
 def constant_twist(
@@ -194,6 +183,36 @@ def phase_limits(
     return speed, (upper if -lower == upper else (lower, upper))
 
 
+# Per kind of phase: the limits' argument names and the units of position, speed,
+# acceleration and jerk, for messages.
+_PHASE_TERMS = {
+    "drive": (("vmax", "amax", "jmax"), ("m", "m/s", "m/s^2")),
+    "turn": (("wmax", "alpha_max", "angular_jmax"), ("rad", "rad/s", "rad/s^2")),
+}
+
+
+def plan_phase(
+    label: str,
+    kind: str,
+    amount: float,
+    limits: MobileLimits,
+    model: Model,
+    *,
+    jerk: float | None = None,
+    profile: Profile = "trapezoid",
+    blend_ratio: float | None = None,
+    dt: float | None = None,
+) -> Trajectory:
+    """The time law of a turn in place or a straight drive by ``amount`` (rad or m).
+
+    ``kind`` is "turn" or "drive"; the limits on the way it moves come from
+    :func:`phase_limits`, the law from :func:`phase_law`.
+    """
+    speed, change = phase_limits(label, kind, amount, limits, model)
+    names, units = _PHASE_TERMS[kind]
+    return phase_law(label, amount, speed, change, jerk, profile, blend_ratio, dt, units, names)
+
+
 # Below this a move has no length: the robot only turns (m), or does not turn (rad).
 _NO_MOTION = 1e-12
 
@@ -309,23 +328,15 @@ def rotate_translate_rotate(
         distance = 0.0
     if target.size == 3:
         plan.append(("turn", "turn to the final heading", float(wrap_angle(target[2] - facing))))
-    angular = ("rad", "rad/s", "rad/s^2")
-    linear = ("m", "m/s", "m/s^2")
     segments: list[Segment] = []
     phase_names, durations = [], []
     pose = origin.copy()
     for kind, label, amount in plan:
         if abs(amount) <= _NO_MOTION:
             continue
-        speed, change = phase_limits(label, kind, amount, limits, base)
-        if kind == "turn":
-            law = phase_law(label, amount, speed, change, wj, profile, blend_ratio, step, angular,
-                            ("wmax", "alpha_max", "angular_jmax"))  # fmt: skip
-            segment: Segment = Turn(pose, law)
-        else:
-            law = phase_law(label, amount, speed, change, j, profile, blend_ratio, step, linear,
-                            ("vmax", "amax", "jmax"))  # fmt: skip
-            segment = Straight(pose, law)
+        law = plan_phase(label, kind, amount, limits, base, jerk=wj if kind == "turn" else j,
+                         profile=profile, blend_ratio=blend_ratio, dt=step)  # fmt: skip
+        segment: Segment = Turn(pose, law) if kind == "turn" else Straight(pose, law)
         segments.append(segment)
         phase_names.append(label)
         durations.append(segment.duration)

@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike
 from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
+from trajkit.limits import Bounds
 from trajkit.mobile.control import (
     ControlLaw,
     Controller,
@@ -20,8 +21,15 @@ from trajkit.mobile.control import (
     saturate,
 )
 from trajkit.mobile.limits import MobileLimits, check_limits
-from trajkit.mobile.models import DiffDrive, Model, arc_pose, pose_array, rk4_step, wrap_angle
-from trajkit.mobile.plans import resolve_model
+from trajkit.mobile.models import (
+    DiffDrive,
+    Model,
+    constant_twist_pose,
+    pose_array,
+    resolve_model,
+    rk4_step,
+    wrap_angle,
+)
 from trajkit.mobile.trajectory import MobileState, MobileTrajectory, command_count
 from trajkit.trajectory import sample_times
 
@@ -364,19 +372,23 @@ def _held(
         v, w = saturate(v, w, model, limits)
         if previous is not None:
             # A held command can only change as fast as the acceleration limits allow.
-            for index, bounds in ((0, a_limit), (1, alpha_limit)):
-                if bounds is not None:
-                    change = (v, w)[index] - previous[index]
-                    change = min(max(change, float(bounds.lower) * period),
-                                 float(bounds.upper) * period)  # fmt: skip
-                    v, w = (previous[0] + change, w) if index == 0 else (v, previous[1] + change)
+            v = _rate_limited(v, previous[0], a_limit, period)
+            w = _rate_limited(w, previous[1], alpha_limit, period)
             v, w = _toward(previous, (v, w), model, limits)
         held[k], poses[k] = (v, w), pose
         previous = (v, w)
         internal = internal + period * internal_rate
-        pose = arc_pose(pose, v, w, period)
+        pose = constant_twist_pose(pose, v, w, period)
     # The motion on the logging grid: the arc from the last command time.
     which = np.minimum(np.floor(times / period + 1e-9).astype(int), count - 1)
     since = times - command_times[which]
-    out = arc_pose(poses[which], held[which, 0], held[which, 1], since)
+    out = constant_twist_pose(poses[which], held[which, 0], held[which, 1], since)
     return out, held[which]
+
+
+def _rate_limited(value: float, previous: float, bounds: Bounds | None, period: float) -> float:
+    """``value`` moved no further from ``previous`` than ``bounds`` (per s) allow in ``period``."""
+    if bounds is None:
+        return value
+    return min(max(value, previous + float(bounds.lower) * period),
+               previous + float(bounds.upper) * period)  # fmt: skip

@@ -24,7 +24,13 @@ from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
 from trajkit.limits import Report, Violation, compare
 from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
-from trajkit.mobile.models import DiffDrive, Model, Unicycle, arc_pose, pose_array
+from trajkit.mobile.models import (
+    DiffDrive,
+    Model,
+    constant_twist_pose,
+    pose_array,
+    resolve_model,
+)
 from trajkit.trajectory import MAX_SAMPLES, Extrema, Trajectory, sample_times
 
 __all__ = ["MobileState", "MobileTrajectory", "Segment"]
@@ -65,7 +71,12 @@ class MobileState:
     @property
     def world_velocity(self) -> FloatArray:
         """``(ẋ, ẏ)`` in the world frame, shape ``(n, 2)``."""
-        return np.stack([self.v * np.cos(self.theta), self.v * np.sin(self.theta)], axis=-1)
+        return world_velocity(self.v, self.theta)
+
+
+def world_velocity(v: FloatArray, theta: FloatArray) -> FloatArray:
+    """``(ẋ, ẏ) = v (cos θ, sin θ)`` (m/s) for speeds and headings of shape (n,): (n, 2)."""
+    return np.stack([v * np.cos(theta), v * np.sin(theta)], axis=-1)
 
 
 def command_times(duration: float, rate_hz: float) -> FloatArray:
@@ -201,7 +212,7 @@ class Arc(Segment):
         self.duration = positive_scalar("duration", duration, unit="s")
 
     def local_state(self, tau: FloatArray) -> LocalState:
-        pose = arc_pose(self.start_pose, self.v, self.omega, tau)
+        pose = constant_twist_pose(self.start_pose, self.v, self.omega, tau)
         zero = np.zeros(tau.size)
         return (*pose.T, zero + self.v, zero + self.omega, zero, zero)
 
@@ -212,7 +223,7 @@ class Arc(Segment):
 
 # Each checked quantity: limit attribute, derivative order, and the (cv, cw) weights of
 # v and ω per channel; wheel weights come from the model.
-def _channels(attribute: str, model: Model) -> tuple[int, list[tuple[str, float, float]]]:
+def channel_weights(attribute: str, model: Model) -> tuple[int, list[tuple[str, float, float]]]:
     if attribute == "wheel_speed":
         if not isinstance(model, DiffDrive):
             raise InvalidInputError(
@@ -255,10 +266,9 @@ class MobileTrajectory:
         limits: MobileLimits | None = None,
         info: Mapping[str, Any] | None = None,
     ) -> None:
-        if not isinstance(model, Unicycle | DiffDrive):
-            raise InvalidInputError(
-                f"model must be a trajkit.mobile Unicycle or DiffDrive, got {type(model).__name__}"
-            )
+        if model is None:  # a trajectory has no default robot: say which one it drives
+            raise InvalidInputError("model must be a trajkit.mobile Unicycle or DiffDrive")
+        model = resolve_model(model)
         parts = tuple(segments)
         if not parts or not all(isinstance(s, Segment) for s in parts):
             raise InvalidInputError("segments must be a non-empty sequence of mobile Segments")
@@ -402,7 +412,7 @@ class MobileTrajectory:
             limit = getattr(limits, attribute)
             if limit is None:
                 continue
-            order, weights = _channels(attribute, self._model)
+            order, weights = channel_weights(attribute, self._model)
             found = self._extrema(order, weights)
             lower = np.full(len(weights), float(limit.lower))
             upper = np.full(len(weights), float(limit.upper))
