@@ -2,5 +2,5 @@
 # The whole test suite, as the README's quick start and CI run it: one source of truth.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-python -m pip install --quiet -e ".[test]"
+python -m pip install --quiet -e ".[test,sim]"
 python -m pytest "$@"

@@ -27,9 +27,10 @@ if TYPE_CHECKING:
     from trajkit.kinematics.chain import SerialChain
     from trajkit.mobile.simulate import SimulationLog
     from trajkit.mobile.trajectory import MobileTrajectory
+    from trajkit.sim.arm import ArmLog
     from trajkit.taskspace.motion import TaskTrajectory
 
-__all__ = ["arm", "mobile", "mobile_path", "profiles", "save", "task_space"]
+__all__ = ["arm", "mobile", "mobile_path", "profiles", "save", "task_space", "tracking"]
 
 _QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 _FIELDS = ("q", "qd", "qdd", "qddd")
@@ -359,6 +360,9 @@ def mobile_path(
     drawn = pose if actual is None else actual["pose"]
     if actual is not None:
         ax.plot(drawn[:, 0], drawn[:, 1], color="C3", label="actual")
+        odometry = getattr(data, "odometry", None)
+        if odometry is not None:
+            ax.plot(odometry[:, 0], odometry[:, 1], ":", color="C2", label="odometry")
     extent = np.ptp(np.concatenate([pose[:, :2], drawn[:, :2]]), axis=0).max() or 1.0
     body = 0.04 * extent
     if robots:
@@ -376,6 +380,50 @@ def mobile_path(
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize="small")
     ax.set_title(title or f"path, {times[-1]:.6g} s")
+    return figure
+
+
+def tracking(
+    log: ArmLog, *, degrees: bool = True, title: str | None = None, width: float = 8.0
+) -> Figure:
+    """A simulated arm run: desired against actual position, the error, the efforts.
+
+    Parameters
+    ----------
+    log : trajkit.sim.ArmLog
+    degrees : bool
+        Angles in degrees (else radians).
+    title : str, optional
+    width : float
+        Figure width (inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three panels against time: positions (desired dashed, actual solid),
+        tracking error ``q − q_d``, and actuator torques, one color per joint.
+    """
+    from trajkit.sim.arm import ArmLog
+
+    if not isinstance(log, ArmLog):
+        raise InvalidInputError(f"log must be a trajkit.sim.ArmLog, got {type(log).__name__}")
+    positive_scalar("width", width)
+    scale, unit = (180.0 / np.pi, "deg") if degrees else (1.0, "rad")
+    figure = Figure(figsize=(width, 7.2), layout="constrained")
+    axes = figure.subplots(3, 1, sharex=True)
+    for j, name in enumerate(log.joint_names):
+        color = f"C{j % 10}"
+        axes[0].plot(log.t, log.desired[:, j] * scale, "--", color=color, label=f"{name} desired")
+        axes[0].plot(log.t, log.actual[:, j] * scale, color=color, label=f"{name} actual")
+        axes[1].plot(log.t, log.error[:, j] * scale, color=color, label=name)
+        axes[2].plot(log.t, log.efforts[:, j], color=color, label=name)
+    for ax, label in zip(axes, (f"position [{unit}]", f"error q − q_d [{unit}]", "effort [N·m]"),
+                         strict=True):  # fmt: skip
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best", fontsize="small", ncols=2)
+    axes[-1].set_xlabel("time [s]")
+    axes[0].set_title(title or f"{log.controller}: desired against actual")
     return figure
 
 

@@ -277,6 +277,26 @@ def constant_twist_pose(
     )
 
 
+def chain_arcs(start: FloatArray, distances: FloatArray, turns: FloatArray) -> FloatArray:
+    """Poses along a chain of arcs: dead reckoning from odometry or held commands.
+
+    Arc ``k`` covers ``distances[k]`` (m) along the path while turning by
+    ``turns[k]`` (rad); the chord formula of :func:`arc_pose` makes every arc
+    exact, and the whole chain is one vectorized pass.
+
+    Returns
+    -------
+    ndarray, shape (n + 1, 3)
+        The start pose and the pose after every arc (heading not wrapped).
+    """
+    theta = start[2] + np.concatenate([[0.0], np.cumsum(turns)])
+    chord = distances * np.sinc(turns / (2.0 * np.pi))
+    middle = theta[:-1] + turns / 2.0
+    x = start[0] + np.concatenate([[0.0], np.cumsum(chord * np.cos(middle))])
+    y = start[1] + np.concatenate([[0.0], np.cumsum(chord * np.sin(middle))])
+    return np.stack([x, y, theta], axis=1)
+
+
 StageRate = Callable[[int, FloatArray], FloatArray]
 
 

@@ -33,7 +33,7 @@ from trajkit.mobile.models import (
 from trajkit.mobile.trajectory import MobileState, MobileTrajectory, command_count
 from trajkit.trajectory import sample_times
 
-__all__ = ["SimulationLog", "simulate"]
+__all__ = ["HeldCommands", "SimulationLog", "log_fields", "simulate"]
 
 _PATH_POINTS = 20_000  # samples of the desired path for the distance-to-path metric
 
@@ -243,21 +243,28 @@ def simulate(
     else:
         rate = positive_scalar("command_rate_hz", command_rate_hz, unit="Hz")
         actual, commands = _held(plan, law, start, times, rate, robot, limits, sigma, rng)
+    fields = log_fields(plan, times, actual, commands, robot)
+    return SimulationLog(**fields, controller=getattr(controller, "name", type(controller).__name__))
+
+
+def log_fields(
+    plan: MobileTrajectory, times: FloatArray, actual: FloatArray, commands: FloatArray, robot: Model
+) -> dict[str, FloatArray | None]:
+    """The fields of a :class:`SimulationLog` that follow from the run's poses and commands."""
     desired = plan.evaluate(times)
     path = plan.evaluate(np.linspace(0.0, plan.duration, _PATH_POINTS))
     wheels = None
     if isinstance(robot, DiffDrive):
         wheels = robot.wheel_speeds(commands[:, 0], commands[:, 1])
-    return SimulationLog(
-        t=times,
-        desired=desired.pose,
-        actual=actual,
-        desired_twist=desired.twist,
-        commands=commands,
-        wheel_speeds=wheels,
-        path_distance=nearest_path_distance(np.stack([path.x, path.y], 1), actual[:, :2]),
-        controller=getattr(controller, "name", type(controller).__name__),
-    )
+    return {
+        "t": times,
+        "desired": desired.pose,
+        "actual": actual,
+        "desired_twist": desired.twist,
+        "commands": commands,
+        "wheel_speeds": wheels,
+        "path_distance": nearest_path_distance(np.stack([path.x, path.y], 1), actual[:, :2]),
+    }
 
 
 def _measured(pose: FloatArray, sigma: FloatArray | None, rng: np.random.Generator) -> FloatArray:
@@ -339,6 +346,55 @@ def _toward(
     )
 
 
+class HeldCommands:
+    """The commands of a loop that sends one every ``1 / rate_hz`` s and holds it.
+
+    Each call takes the pose the controller sees at the next command time and
+    returns the command: the control law's output, saturated to the limits, then
+    limited in its change by the acceleration limits (while the wheels stay
+    within theirs). The plant between commands is the caller's: exact arcs here,
+    physics in :mod:`trajkit.sim`.
+    """
+
+    def __init__(
+        self,
+        plan: MobileTrajectory,
+        law: ControlLaw,
+        end: float,
+        rate_hz: float,
+        model: Model,
+        limits: MobileLimits,
+    ) -> None:
+        self.period = 1.0 / rate_hz
+        # The commands sent before the end, and one more at the end that holds for no time.
+        count = command_count(end, rate_hz) + 1
+        self.times = self.period * np.arange(count)
+        # Each command holds for the period after it (one at the end holds nothing).
+        holding = self.times < end
+        self._desired = _one_sided(plan, self.times[holding], 1.0)
+        self._desired += _desired_rows(plan.evaluate(self.times[~holding]))
+        self._law, self._model, self._limits = law, model, limits
+        self._internal = np.array(law.initial_state, dtype=float)
+        self._previous: tuple[float, float] | None = None
+        self._sent = 0
+
+    def __call__(self, seen: FloatArray) -> tuple[float, float]:
+        """The next command ``(v, ω)`` for the measured pose ``seen``."""
+        k, law, limits = self._sent, self._law, self._limits
+        law.advance(self.times[k], seen)
+        v, w, internal_rate = law(self.times[k], seen, self._desired[k], self._internal)
+        v, w = saturate(v, w, self._model, limits)
+        if self._previous is not None:
+            # A held command can only change as fast as the acceleration limits allow.
+            v = _rate_limited(v, self._previous[0], limits.acceleration, self.period)
+            w = _rate_limited(w, self._previous[1], limits.angular_acceleration, self.period)
+            v, w = _toward(self._previous, (v, w), self._model, limits)
+        self._previous = (v, w)
+        self._internal = self._internal + self.period * internal_rate
+        self._sent += 1
+        return v, w
+
+
 def _held(
     plan: MobileTrajectory,
     law: ControlLaw,
@@ -351,37 +407,18 @@ def _held(
     rng: np.random.Generator,
 ) -> tuple[FloatArray, FloatArray]:
     """Commands every ``1 / rate_hz`` s, held; exact arcs in between; log on ``times``."""
-    period = 1.0 / rate_hz
-    # The commands sent before the end, and one more at the end that holds for no time.
-    count = command_count(times[-1], rate_hz) + 1
-    command_times = period * np.arange(count)
-    # Each command holds for the period after it (one at the log's end holds nothing).
-    holding = command_times < times[-1]
-    desired = _one_sided(plan, command_times[holding], 1.0)
-    desired += _desired_rows(plan.evaluate(command_times[~holding]))
-    a_limit, alpha_limit = limits.acceleration, limits.angular_acceleration
+    commander = HeldCommands(plan, law, times[-1], rate_hz, model, limits)
+    count, period = commander.times.size, commander.period
     pose = start.copy()
-    internal = np.array(law.initial_state, dtype=float)
     held = np.empty((count, 2))
     poses = np.empty((count, 3))
-    previous = None
     for k in range(count):  # a closed loop is sequential by nature
-        seen = _measured(pose, sigma, rng)
-        law.advance(command_times[k], seen)
-        v, w, internal_rate = law(command_times[k], seen, desired[k], internal)
-        v, w = saturate(v, w, model, limits)
-        if previous is not None:
-            # A held command can only change as fast as the acceleration limits allow.
-            v = _rate_limited(v, previous[0], a_limit, period)
-            w = _rate_limited(w, previous[1], alpha_limit, period)
-            v, w = _toward(previous, (v, w), model, limits)
-        held[k], poses[k] = (v, w), pose
-        previous = (v, w)
-        internal = internal + period * internal_rate
-        pose = constant_twist_pose(pose, v, w, period)
+        held[k] = commander(_measured(pose, sigma, rng))
+        poses[k] = pose
+        pose = constant_twist_pose(pose, held[k, 0], held[k, 1], period)
     # The motion on the logging grid: the arc from the last command time.
     which = np.minimum(np.floor(times / period + 1e-9).astype(int), count - 1)
-    since = times - command_times[which]
+    since = times - commander.times[which]
     out = constant_twist_pose(poses[which], held[which, 0], held[which, 1], since)
     return out, held[which]
 

@@ -1,0 +1,250 @@
+"""Scenes: a robot plus the physical parameters MuJoCo needs to simulate it.
+
+An :class:`ArmScene` wraps a :class:`~trajkit.kinematics.SerialChain` (built-in,
+DH table or URDF) with link sizes and masses, joint damping and rotor inertia; a
+:class:`MobileScene` wraps a :class:`~trajkit.mobile.DiffDrive` with its wheels,
+casters and ground friction. Both write their MJCF on demand (``scene.mjcf()``), so
+a scene can be inspected or saved and loaded in MuJoCo's own viewer.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit.errors import InvalidInputError
+from trajkit.kinematics import RRBot, SerialChain
+from trajkit.mobile.models import DiffDrive, jackal
+from trajkit.sim.mjcf import Actuator, chain_mjcf, diff_drive_mjcf
+
+__all__ = ["ArmScene", "MobileScene", "arm_scene", "jackal_scene", "rrbot_scene"]
+
+
+def _per_joint(name: str, value: ArrayLike, ndof: int, unit: str, *, zero_ok: bool) -> FloatArray:
+    array = finite_array(name, value, unit=unit)
+    if array.ndim == 0:
+        array = np.full(ndof, float(array))
+    if array.shape != (ndof,):
+        raise InvalidInputError(
+            f"{name} must be one number or one per joint ({ndof}), got shape {array.shape}"
+        )
+    if np.any(array < 0.0) or (not zero_ok and np.any(array == 0.0)):
+        rule = ">= 0" if zero_ok else "> 0"
+        raise InvalidInputError(f"{name} must be {rule} {unit}, got {array.tolist()}")
+    return array
+
+
+def _timestep(value: float) -> float:
+    step = positive_scalar("timestep", value, unit="s")
+    if step > 0.01:
+        raise InvalidInputError(f"timestep must be at most 0.01 s for stable contacts, got {step:g} s")
+    return step
+
+
+@dataclass(frozen=True, eq=False)
+class ArmScene:
+    """A serial arm on a floor, ready for MuJoCo.
+
+    Parameters
+    ----------
+    robot : SerialChain
+        Any chain of :mod:`trajkit.kinematics`; MuJoCo's joint positions equal its ``q``.
+    link_radius : float, optional
+        Radius of the links' capsules (m); default 3% of the arm's reach, at least 1 cm.
+    link_mass : float or array_like, shape (ndof,)
+        Mass of the link each joint moves (kg), spread evenly along it.
+    damping : float or array_like
+        Viscous joint friction (N·m·s/rad, or N·s/m for a prismatic joint).
+    armature : float or array_like
+        Rotor inertia reflected through the gearbox (kg·m²), added to each joint.
+    effort_limit : float or array_like, optional
+        Largest total actuator torque (N·m) or force (N) per joint; none by default.
+    gravity_compensation : bool
+        Servo controllers (position and velocity) add a drive's gravity
+        feed-forward. Torque controllers compute gravity in their own inverse
+        dynamics and ignore this.
+    timestep : float
+        Physics step (s); control periods must be whole multiples of it.
+    """
+
+    robot: SerialChain
+    link_radius: float | None = None
+    link_mass: ArrayLike = 1.0
+    damping: ArrayLike = 0.1
+    armature: ArrayLike = 0.01
+    effort_limit: ArrayLike | None = None
+    gravity_compensation: bool = True
+    timestep: float = 0.001
+    _compiled: dict = field(default_factory=dict, init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.robot, SerialChain):
+            raise InvalidInputError(
+                f"robot must be a trajkit.kinematics SerialChain, got {type(self.robot).__name__}"
+            )
+        n = self.robot.ndof
+        radius = (
+            max(0.03 * self.robot.reach(), 0.01)
+            if self.link_radius is None
+            else positive_scalar("link_radius", self.link_radius, unit="m")
+        )
+        object.__setattr__(self, "link_radius", radius)
+        object.__setattr__(self, "link_mass", _per_joint("link_mass", self.link_mass, n, "kg",
+                                                          zero_ok=False))  # fmt: skip
+        object.__setattr__(self, "damping", _per_joint("damping", self.damping, n, "N·m·s/rad",
+                                                        zero_ok=True))  # fmt: skip
+        object.__setattr__(self, "armature", _per_joint("armature", self.armature, n, "kg·m²",
+                                                         zero_ok=True))  # fmt: skip
+        if self.effort_limit is not None:
+            limit = _per_joint("effort_limit", self.effort_limit, n, "N·m", zero_ok=False)
+            object.__setattr__(self, "effort_limit", limit)
+        object.__setattr__(self, "timestep", _timestep(self.timestep))
+        object.__setattr__(self, "gravity_compensation", bool(self.gravity_compensation))
+
+    @property
+    def ndof(self) -> int:
+        """Number of joints."""
+        return self.robot.ndof
+
+    def mjcf(self, actuators: Sequence[Actuator] = (Actuator("motor"),), *,
+             gravity_compensation: bool | None = None) -> str:  # fmt: skip
+        """The scene as MJCF text, with one of each ``actuators`` on every joint."""
+        return chain_mjcf(
+            self.robot,
+            actuators=actuators,
+            link_radius=self.link_radius,
+            link_mass=self.link_mass,
+            damping=self.damping,
+            armature=self.armature,
+            effort_limit=self.effort_limit,
+            gravity_compensation=self.gravity_compensation
+            if gravity_compensation is None
+            else gravity_compensation,
+            timestep=self.timestep,
+        )
+
+    def compiled(self, key: object, actuators: Sequence[Actuator], gravity: bool) -> object:
+        """The MuJoCo model for one actuator set, compiled once per scene."""
+        from trajkit.sim.engine import compile_scene
+
+        if key not in self._compiled:
+            self._compiled[key] = compile_scene(
+                self.mjcf(actuators, gravity_compensation=gravity)
+            )
+        return self._compiled[key]
+
+
+@dataclass(frozen=True, eq=False)
+class MobileScene:
+    """A differential-drive base on flat ground, ready for MuJoCo.
+
+    The base has **two driven wheels and two casters** (front and rear, frictionless).
+    The wheels sit the kinematic model's *effective* track apart
+    (``track_width × track_multiplier``): a four-wheel skid-steer robot such as the
+    Jackal turns like a two-wheeled one of that track, which is what its ROS
+    controller and trajkit's plans assume, while how much a skid-steer base
+    skids depends on tyre and ground properties that a rigid-contact simulator
+    does not represent faithfully. The wheels are tyre-shaped ellipsoids with one
+    contact point below the axle.
+
+    Parameters
+    ----------
+    model : DiffDrive
+        Wheel radius, effective track, wheelbase (the casters' spacing, with the
+        chassis length) and mass (17 kg if the model has none).
+    wheel_width : float
+        Tyre width (m).
+    wheel_mass : float
+        Mass of each wheel (kg), part of the model's mass.
+    caster_radius : float
+        Radius of the caster spheres (m).
+    wheel_friction : float
+        Coulomb friction coefficient of tyre on ground.
+    wheel_gain : float
+        Velocity-servo gain of each wheel motor (N·m·s/rad): torque per rad/s of
+        speed error.
+    wheel_damping : float
+        Viscous friction of each wheel's bearing (N·m·s/rad).
+    timestep : float
+        Physics step (s); command periods must be whole multiples of it.
+    """
+
+    model: DiffDrive = field(default_factory=jackal)
+    wheel_width: float = 0.04
+    wheel_mass: float = 0.477
+    caster_radius: float = 0.03
+    wheel_friction: float = 1.0
+    wheel_gain: float = 10.0
+    wheel_damping: float = 0.0
+    timestep: float = 0.001
+    _compiled: dict = field(default_factory=dict, init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.model, DiffDrive):
+            raise InvalidInputError(
+                "a mobile scene needs a DiffDrive model (wheels to drive), got "
+                f"{type(self.model).__name__}"
+            )
+        for name, unit in (("wheel_width", "m"), ("wheel_mass", "kg"), ("caster_radius", "m"),
+                           ("wheel_friction", ""), ("wheel_gain", "N·m·s/rad")):  # fmt: skip
+            object.__setattr__(self, name, positive_scalar(name, getattr(self, name), unit=unit))
+        damping = finite_array("wheel_damping", self.wheel_damping, unit="N·m·s/rad")
+        if damping.ndim != 0 or damping < 0.0:
+            raise InvalidInputError(f"wheel_damping must be one number >= 0, got {damping}")
+        object.__setattr__(self, "wheel_damping", float(damping))
+        if self.caster_radius >= self.model.wheel_radius:
+            raise InvalidInputError(
+                f"caster_radius {self.caster_radius:g} m must be below the wheel radius "
+                f"{self.model.wheel_radius:g} m"
+            )
+        object.__setattr__(self, "timestep", _timestep(self.timestep))
+
+    def mjcf(self, pose: ArrayLike = (0.0, 0.0, 0.0)) -> str:
+        """The scene as MJCF text, the base starting at ``pose`` ``(x, y, θ)`` (m, m, rad)."""
+        start = finite_array("pose", pose)
+        if start.shape != (3,):
+            raise InvalidInputError(f"pose must be (x, y, theta), got shape {start.shape}")
+        return diff_drive_mjcf(
+            self.model,
+            pose=start,
+            wheel_width=self.wheel_width,
+            wheel_mass=self.wheel_mass,
+            caster_radius=self.caster_radius,
+            wheel_friction=self.wheel_friction,
+            wheel_gain=self.wheel_gain,
+            wheel_damping=self.wheel_damping,
+            timestep=self.timestep,
+        )
+
+    def compiled(self) -> object:
+        """The MuJoCo model (with the base at the origin), compiled once per scene."""
+        from trajkit.sim.engine import compile_scene
+
+        if "model" not in self._compiled:
+            self._compiled["model"] = compile_scene(self.mjcf())
+        return self._compiled["model"]
+
+
+def arm_scene(robot: SerialChain, **parameters: object) -> ArmScene:
+    """An :class:`ArmScene` for ``robot``; keyword arguments as :class:`ArmScene`'s."""
+    return ArmScene(robot, **parameters)  # type: ignore[arg-type]
+
+
+def rrbot_scene(**parameters: object) -> ArmScene:
+    """ROS/Gazebo's RRBot as ``rrbot.xacro`` describes it: 1 kg links, damping 0.7 N·m·s/rad.
+
+    The links are 0.1 m thick (capsules of radius 0.05 m) on a 2 m post, as in the
+    xacro; keyword arguments override any :class:`ArmScene` parameter.
+    """
+    values: dict[str, object] = {"link_radius": 0.05, "link_mass": 1.0, "damping": 0.7}
+    values.update(parameters)
+    return ArmScene(RRBot(), **values)  # type: ignore[arg-type]
+
+
+def jackal_scene(**parameters: object) -> MobileScene:
+    """A :class:`MobileScene` of :func:`~trajkit.mobile.jackal` (17 kg, 0.098 m wheels)."""
+    return MobileScene(jackal(), **parameters)  # type: ignore[arg-type]
