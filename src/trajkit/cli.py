@@ -15,6 +15,13 @@ import numpy as np
 
 import trajkit
 from trajkit.cli_mobile import add_mobile_commands, run_mobile
+from trajkit.cli_sim import (
+    add_sim_options,
+    check_sim_options,
+    render_or_note,
+    simulate_arm,
+    write_frames,
+)
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import staged_files
 from trajkit.limits import Limits
@@ -123,6 +130,7 @@ def _build_parser() -> _Parser:
     )
     plan.add_argument("--csv", type=Path, help="write samples (SI units) to this CSV file")
     plan.add_argument("--plot", type=Path, help="write a profile plot (.png, .svg or .pdf)")
+    add_sim_options(plan, arm=True)
 
     add_mobile_commands(commands)
 
@@ -191,9 +199,16 @@ def _plan(args: argparse.Namespace) -> int:
     planner = _planner(args.profile)
     trajectory = planner(si(args.q0), si(args.qf), duration=args.duration, **kwargs)
     limits = Limits(velocity=kwargs["vmax"], acceleration=kwargs["amax"], jerk=kwargs.get("jmax"))
-    if args.plot is not None and args.plot.suffix.lower() not in {".png", ".svg", ".pdf"}:
-        raise CommandError(f"--plot must end in .png, .svg or .pdf, got {args.plot.name!r}")
+    for flag, path in (("--plot", args.plot), ("--sim-plot", args.sim_plot)):
+        if path is not None and path.suffix.lower() not in {".png", ".svg", ".pdf"}:
+            raise CommandError(f"{flag} must end in .png, .svg or .pdf, got {path.name!r}")
+    check_sim_options(args)
     summary = _summary(trajectory, limits, args.profile, unit, to_si)
+    scene = log = None
+    if args.sim == "mujoco":
+        scene, log = simulate_arm(args, trajectory)
+        summary += f"\nsimulated on {scene.robot.name} in MuJoCo, {log.summary()}"
+    images = render_or_note(scene, log, args.frames)
     with staged_files() as stage:
         if args.csv is not None:
             trajectory.sample(DEFAULT_SAMPLE_PERIOD if args.dt is None else args.dt).to_csv(
@@ -204,6 +219,14 @@ def _plan(args: argparse.Namespace) -> int:
 
             figure = profiles(trajectory, limits, degrees=args.deg, title=f"{args.profile} move")
             save(figure, stage.path(args.plot))
+        if log is not None and args.sim_csv is not None:
+            log.to_csv(stage.path(args.sim_csv))
+        if log is not None and args.sim_plot is not None:
+            from trajkit.plot import save, tracking
+
+            title = f"{args.profile} move on {scene.robot.name}, {log.controller}"
+            save(tracking(log, degrees=args.deg, title=title), stage.path(args.sim_plot))
+        write_frames(images, args.frames, stage)
     print(summary)
     for path in stage.targets:
         print(f"wrote {path}")

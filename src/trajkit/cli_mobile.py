@@ -14,9 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
+from trajkit.cli_sim import add_sim_options, check_sim_options, render_or_note, write_frames
 from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import staged_files
 from trajkit.mobile import (
+    DiffDrive,
     MobileLimits,
     MobileTrajectory,
     SimulationLog,
@@ -46,6 +48,7 @@ def _outputs(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--path-plot", type=Path, help="the XY path with the robot drawn")
     parser.add_argument("--dt", type=float, default=0.01,
                         help="sampling / simulation step in s (default 0.01)")  # fmt: skip
+    add_sim_options(parser, arm=False)
 
 
 def add_mobile_commands(commands: argparse._SubParsersAction) -> None:
@@ -149,9 +152,14 @@ def _check_suffix(path: Path | None, flag: str) -> None:
 
 
 def _write(
-    args: argparse.Namespace, plan: MobileTrajectory, log: SimulationLog | None, title: str
+    args: argparse.Namespace,
+    plan: MobileTrajectory,
+    log: SimulationLog | None,
+    title: str,
+    images: list,
 ) -> list[Path]:
     with staged_files() as stage:
+        write_frames(images, args.frames, stage)
         if args.csv is not None:
             if log is None:
                 plan.to_csv(stage.path(args.csv), args.dt)
@@ -174,9 +182,13 @@ def run_mobile(args: argparse.Namespace) -> int:
     _check_suffix(args.path_plot, "--path-plot")
     if not args.dt > 0.0 or not np.isfinite(args.dt):
         raise InvalidInputError(f"--dt must be a time > 0 s, got {args.dt:g}")
+    check_sim_options(args)
     model = ROBOTS[args.robot]()
+    if args.sim == "mujoco" and not isinstance(model, DiffDrive):
+        raise InvalidInputError(f"--sim mujoco needs a robot with wheels, not --robot {args.robot}")
     limits = _limits(model, args)
     log = None
+    controller, start, rate = None, None, getattr(args, "rate_hz", None)
     if args.mobile_command == "twist":
         plan = constant_twist(
             args.v, np.radians(args.omega_deg), args.duration, rate_hz=args.rate_hz, model=model
@@ -204,14 +216,23 @@ def run_mobile(args: argparse.Namespace) -> int:
         )
         dx, dy, dtheta = args.offset
         start = plan.start_pose + np.array([dx, dy, np.radians(dtheta)])
-        log = simulate(
-            plan, controller_named(args.controller), dt=args.dt, initial_pose=start,
-            command_rate_hz=args.rate_hz,
-        )  # fmt: skip
+        controller = controller_named(args.controller)
+        if args.sim == "kinematic":
+            log = simulate(plan, controller, dt=args.dt, initial_pose=start,
+                           command_rate_hz=args.rate_hz)  # fmt: skip
         title = f"figure eight {args.width:g} m x {args.height:g} m, {args.controller}"
     print(describe(plan))
-    if log is not None:
+    images: list = []
+    if args.sim == "mujoco":
+        from trajkit import sim
+
+        scene = sim.MobileScene(model)
+        log = sim.run(scene, plan, control_rate_hz=args.control_rate_hz or rate,
+                      controller=controller, initial_pose=start)  # fmt: skip
+        print(f"simulated in MuJoCo at {1.0 / (log.t[1] - log.t[0]):g} Hz: {log.summary()}")
+        images = render_or_note(scene, log, args.frames)
+    elif log is not None:
         print(f"tracking ({args.dt:g} s steps): {log.summary()}")
-    for path in _write(args, plan, log, title):
+    for path in _write(args, plan, log, title, images):
         print(f"wrote {path}")
     return 0

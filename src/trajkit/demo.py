@@ -275,6 +275,90 @@ def seed002_figure_eight(out: Path, stage: StagedFiles, log: Log) -> None:
     log(f"  feedforward from the right pose, RK4 at 1 kHz: max error {exact.max_error:.2g} m")
 
 
+def _simulation_ready(log: Log) -> bool:
+    from trajkit.sim import mujoco_available
+    from trajkit.sim.engine import INSTALL_HINT
+
+    if not mujoco_available():
+        log(f"  (MuJoCo is not installed, so this runs without physics: {INSTALL_HINT})")
+    return mujoco_available()
+
+
+def _frames(scene: object, run: object, stem: Path, stage: StagedFiles, log: Log) -> None:
+    """Three rendered frames (start, middle, end), or a note where no OpenGL works."""
+    from trajkit import sim
+    from trajkit.sim.render import write_png
+
+    try:
+        images = sim.frames(scene, run, np.linspace(run.t[0], run.t[-1], 3))  # type: ignore[arg-type]
+    except sim.SimulationUnavailableError as exc:
+        log(f"  no frames rendered: {exc}")
+        return
+    for index, image in enumerate(images):
+        write_png(image, stage.path(stem.with_name(f"{stem.name}_frame{index}.png")))
+
+
+def seed000_rrbot_in_mujoco(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 000 §3.1 executed: the RRBot's cubic move on the simulated arm, four controllers."""
+    log("seed 000 RRBot cubic move in MuJoCo (1 kg links, damping 0.7, 1 kHz control):")
+    if not _simulation_ready(log):
+        return
+    from trajkit import sim
+
+    vmax = np.radians([9.0, 11.0])
+    plan = tk.cubic(np.radians([0.0, 0.0]), np.radians([67.0, -45.0]), vmax=vmax)
+    cases = (
+        ("position servo, Gazebo's gains (p 100, d 10), no gravity compensation",
+         sim.rrbot_scene(gravity_compensation=False), "position"),
+        ("position servo with gravity compensation", sim.rrbot_scene(), "position"),
+        ("velocity servo", sim.rrbot_scene(), "velocity"),
+        ("PD + inverse-dynamics feed-forward", sim.rrbot_scene(), "pd_feedforward"),
+        ("computed torque (ω = 30 rad/s)", sim.rrbot_scene(), "computed_torque"),
+    )  # fmt: skip
+    for label, scene, controller in cases:
+        run = sim.run(scene, plan, controller=controller)
+        error, effort = np.degrees(run.max_error), run.peak_effort
+        log(
+            f"  {label}: max error {error[0]:.3g}° / {error[1]:.3g}°, final "
+            f"{abs(np.degrees(run.final_error[0])):.3g}° / "
+            f"{abs(np.degrees(run.final_error[1])):.3g}°, peak torque {effort[0]:.3g} / "
+            f"{effort[1]:.3g} N·m"
+        )
+        if controller == "position" and scene.gravity_compensation:
+            stem = out / "seed000_rrbot_mujoco"
+            figure = tk.plot.tracking(run, title="Seed 000: RRBot cubic move in MuJoCo, " + label)
+            tk.plot.save(figure, stage.path(stem.with_suffix(".png")))
+            run.to_csv(stage.path(stem.with_suffix(".csv")))
+            _frames(scene, run, stem, stage, log)
+
+
+def seed000_jackal_in_mujoco(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 000 §2.1 executed: rotate–translate–rotate on a simulated Jackal."""
+    log("seed 000 Jackal rotate–translate–rotate in MuJoCo (17 kg, wheel velocity servos):")
+    if not _simulation_ready(log):
+        return
+    from trajkit import sim
+
+    plan = mobile.rotate_translate_rotate(
+        (5.0, 3.0, 1.5), vmax=0.2, wmax=np.radians(30.0), blend_ratio=0.1, model=mobile.jackal()
+    )
+    scene = sim.jackal_scene()
+    for controller, rate in ((mobile.Feedforward(), 10.0), (mobile.Feedforward(), 50.0),
+                             (mobile.Kanayama(), 50.0)):  # fmt: skip
+        run = sim.run(scene, plan, control_rate_hz=rate, controller=controller)
+        x, y, theta = run.actual[-1]
+        log(
+            f"  {controller.name} at {rate:g} Hz: ends at ({x:.4f} m, {y:.4f} m, {theta:.4f} "
+            f"rad), {run.final_position_error * 1000:.3g} mm from the goal; max error "
+            f"{run.max_error * 1000:.3g} mm; odometry drift {run.odometry_drift * 1000:.3g} mm; "
+            f"peak wheel torque {run.peak_wheel_torque:.3g} N·m"
+        )
+        if controller.name == "kanayama":
+            stem = "seed000_jackal_goto_mujoco"
+            _mobile_outputs(out, stage, stem, run, "Seed 000: rotate, drive, rotate in MuJoCo")
+            _frames(scene, run, out / stem, stage, log)
+
+
 EXAMPLES: tuple[Callable[[Path, StagedFiles, Log], None], ...] = (
     seed004_via_point_polynomials,
     seed000_two_joint_cubic,
@@ -284,6 +368,8 @@ EXAMPLES: tuple[Callable[[Path, StagedFiles, Log], None], ...] = (
     seed000_jackal_twist,
     seed000_jackal_rotate_translate_rotate,
     seed002_figure_eight,
+    seed000_rrbot_in_mujoco,
+    seed000_jackal_in_mujoco,
 )
 
 

@@ -244,11 +244,17 @@ def simulate(
         rate = positive_scalar("command_rate_hz", command_rate_hz, unit="Hz")
         actual, commands = _held(plan, law, start, times, rate, robot, limits, sigma, rng)
     fields = log_fields(plan, times, actual, commands, robot)
-    return SimulationLog(**fields, controller=getattr(controller, "name", type(controller).__name__))
+    return SimulationLog(
+        **fields, controller=getattr(controller, "name", type(controller).__name__)
+    )
 
 
 def log_fields(
-    plan: MobileTrajectory, times: FloatArray, actual: FloatArray, commands: FloatArray, robot: Model
+    plan: MobileTrajectory,
+    times: FloatArray,
+    actual: FloatArray,
+    commands: FloatArray,
+    robot: Model,
 ) -> dict[str, FloatArray | None]:
     """The fields of a :class:`SimulationLog` that follow from the run's poses and commands."""
     desired = plan.evaluate(times)

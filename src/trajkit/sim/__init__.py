@@ -22,7 +22,7 @@ from trajkit.sim.arm import (
     arm_controller,
 )
 from trajkit.sim.engine import SimulationUnavailableError, mujoco_available
-from trajkit.sim.render import render_frames
+from trajkit.sim.render import frames, render_frames
 from trajkit.sim.run import DEFAULT_RATES_HZ, run
 from trajkit.sim.scenes import ArmScene, MobileScene, arm_scene, jackal_scene, rrbot_scene
 from trajkit.sim.wheeled import PhysicsLog
@@ -40,6 +40,7 @@ __all__ = [
     "VelocityServo",
     "arm_controller",
     "arm_scene",
+    "frames",
     "jackal_scene",
     "mujoco_available",
     "render_frames",

@@ -70,8 +70,13 @@ class PositionServo:
 
     def actuators(self, ndof: int) -> list[Actuator]:
         """One MuJoCo position actuator per joint."""
-        return [Actuator("position", _gains("kp", self.kp, ndof, "N·m/rad"),
-                         _gains("kv", self.kv, ndof, "N·m·s/rad"))]  # fmt: skip
+        return [
+            Actuator(
+                "position",
+                _gains("kp", self.kp, ndof, "N·m/rad"),
+                _gains("kv", self.kv, ndof, "N·m·s/rad"),
+            )
+        ]
 
     def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:
         """The control columns for desired states (one row per control time)."""
@@ -88,8 +93,10 @@ class VelocityServo:
 
     def actuators(self, ndof: int) -> list[Actuator]:
         """An integrated-velocity (position loop) and a velocity actuator per joint."""
-        return [Actuator("intvelocity", kp=_gains("kp", self.kp, ndof, "N·m/rad")),
-                Actuator("velocity", kv=_gains("kv", self.kv, ndof, "N·m·s/rad"))]  # fmt: skip
+        return [
+            Actuator("intvelocity", kp=_gains("kp", self.kp, ndof, "N·m/rad")),
+            Actuator("velocity", kv=_gains("kv", self.kv, ndof, "N·m·s/rad")),
+        ]
 
     def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:  # noqa: D102
         return np.concatenate([qd, qd], axis=1)
@@ -105,8 +112,11 @@ class PDFeedforward:
 
     def actuators(self, ndof: int) -> list[Actuator]:
         """A motor, a position and a velocity actuator per joint."""
-        return [Actuator("motor"), Actuator("position", kp=_gains("kp", self.kp, ndof, "N·m/rad")),
-                Actuator("velocity", kv=_gains("kv", self.kv, ndof, "N·m·s/rad"))]  # fmt: skip
+        return [
+            Actuator("motor"),
+            Actuator("position", kp=_gains("kp", self.kp, ndof, "N·m/rad")),
+            Actuator("velocity", kv=_gains("kv", self.kv, ndof, "N·m·s/rad")),
+        ]
 
     def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:  # noqa: D102
         return np.concatenate([torque, q, qd], axis=1)
@@ -150,8 +160,10 @@ _NAMED: dict[str, type] = {
 
 
 def arm_controller(controller: str | ArmController) -> ArmController:
-    """A controller object from itself or its name (``"position"``, ``"velocity"``,
-    ``"pd_feedforward"``, ``"computed_torque"``), with default gains."""
+    """A controller object from itself or its name, with default gains.
+
+    Names: ``"position"``, ``"velocity"``, ``"pd_feedforward"``, ``"computed_torque"``.
+    """
     if isinstance(controller, str):
         if controller not in _NAMED:
             raise InvalidInputError(
@@ -239,11 +251,13 @@ class ArmLog:
         """Write every row: time, desired and actual states, efforts (SI units)."""
         header = ["t [s]"]
         columns = [self.t[:, None]]
-        for label, data, unit in (("desired", self.desired, "rad"),
-                                  ("actual", self.actual, "rad"),
-                                  ("desired_velocity", self.desired_velocity, "rad/s"),
-                                  ("actual_velocity", self.actual_velocity, "rad/s"),
-                                  ("effort", self.efforts, "N·m")):  # fmt: skip
+        for label, data, unit in (
+            ("desired", self.desired, "rad"),
+            ("actual", self.actual, "rad"),
+            ("desired_velocity", self.desired_velocity, "rad/s"),
+            ("actual_velocity", self.actual_velocity, "rad/s"),
+            ("effort", self.efforts, "N·m"),
+        ):
             header += [f"{name}_{label} [{unit}]" for name in self.joint_names]
             columns.append(data)
         return write_csv(path, header, np.concatenate(columns, axis=1))
@@ -271,16 +285,16 @@ def run_arm(
 ) -> ArmLog:
     """Execute a joint trajectory on the simulated arm; see :func:`trajkit.sim.run`."""
     if not isinstance(plan, Trajectory):
-        raise InvalidInputError(
-            f"an arm scene runs a joint Trajectory, got {type(plan).__name__}"
-        )
+        raise InvalidInputError(f"an arm scene runs a joint Trajectory, got {type(plan).__name__}")
     if plan.ndof != scene.ndof:
         raise InvalidInputError(
             f"the plan has {plan.ndof} joint(s) but {scene.robot.name} has {scene.ndof}"
         )
     control = arm_controller(controller)
-    end = plan.end_time if duration is None else plan.start_time + positive_scalar(
-        "duration", duration, unit="s"
+    end = (
+        plan.end_time
+        if duration is None
+        else plan.start_time + positive_scalar("duration", duration, unit="s")
     )
     if end <= plan.start_time:
         raise InvalidInputError("the plan has no duration to simulate; pass duration=")
@@ -298,16 +312,15 @@ def run_arm(
         data.act[:] = desired[0][0]  # the integrated setpoint starts where the joints are
     mujoco.mj_forward(model, data)
     if isinstance(control, ComputedTorque):
-        actual, velocity, commands, efforts = _computed_torque(model, data, control, desired,
-                                                               substeps)  # fmt: skip
+        actual, velocity, commands, efforts = _computed_torque(
+            model, data, control, desired, substeps
+        )
     else:
         torque = _inverse_dynamics(model, *desired) if torque_control else None
         commands = control.inputs(desired[0], desired[1], torque)
-        sensors = open_loop(
-            model, data, np.repeat(commands[:-1], substeps, axis=0), commands[-1]
-        )
+        sensors = open_loop(model, data, np.repeat(commands[:-1], substeps, axis=0), commands[-1])
         rows = sensors[::substeps]
-        actual, velocity, efforts = rows[:, :ndof], rows[:, ndof:2 * ndof], rows[:, 2 * ndof:]
+        actual, velocity, efforts = rows[:, :ndof], rows[:, ndof : 2 * ndof], rows[:, 2 * ndof :]
     return ArmLog(
         t=times,
         desired=desired[0],

@@ -10,6 +10,7 @@ the kinematics trajkit plans with.
 
 from __future__ import annotations
 
+import itertools
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -54,25 +55,65 @@ def _scene_root(name: str, timestep: float, extent: float) -> tuple[ET.Element, 
     ET.SubElement(root, "compiler", angle="radian", autolimits="true")
     # implicitfast integrates joint damping and actuator velocity gains implicitly:
     # stiff servos stay stable at a millisecond step.
-    ET.SubElement(root, "option", timestep=_num(timestep), integrator="implicitfast")
+    option = ET.SubElement(root, "option", timestep=_num(timestep), integrator="implicitfast")
+    # Inverse dynamics consistent with that discrete-time integrator, so computed
+    # torque and feed-forward cancel the implicit damping exactly.
+    ET.SubElement(option, "flag", invdiscrete="enable")
     visual = ET.SubElement(root, "visual")
     ET.SubElement(visual, "global", offwidth="1280", offheight="960")
     ET.SubElement(visual, "map", znear="0.01")
     asset = ET.SubElement(root, "asset")
-    ET.SubElement(asset, "texture", type="skybox", builtin="gradient", rgb1="0.62 0.74 0.86",
-                  rgb2="0.95 0.96 0.98", width="256", height="256")  # fmt: skip
-    ET.SubElement(asset, "texture", name="grid", type="2d", builtin="checker", width="512",
-                  height="512", rgb1="0.82 0.84 0.86", rgb2="0.72 0.74 0.76")  # fmt: skip
-    ET.SubElement(asset, "material", name="grid", texture="grid", texrepeat="1 1",
-                  texuniform="true", reflectance="0.05")  # fmt: skip
+    ET.SubElement(
+        asset,
+        "texture",
+        type="skybox",
+        builtin="gradient",
+        rgb1="0.62 0.74 0.86",
+        rgb2="0.95 0.96 0.98",
+        width="256",
+        height="256",
+    )
+    ET.SubElement(
+        asset,
+        "texture",
+        name="grid",
+        type="2d",
+        builtin="checker",
+        width="512",
+        height="512",
+        rgb1="0.82 0.84 0.86",
+        rgb2="0.72 0.74 0.76",
+    )
+    ET.SubElement(
+        asset,
+        "material",
+        name="grid",
+        texture="grid",
+        texrepeat="1 1",
+        texuniform="true",
+        reflectance="0.05",
+    )
     ET.SubElement(asset, "material", name="link", rgba="0.93 0.55 0.16 1")
     ET.SubElement(asset, "material", name="joint", rgba="0.25 0.3 0.38 1")
     ET.SubElement(asset, "material", name="base", rgba="0.45 0.47 0.5 1")
     world = ET.SubElement(root, "worldbody")
-    ET.SubElement(world, "light", pos=_vec([0, 0, 3 * extent]), dir="0 0 -1",
-                  directional="true", diffuse="0.8 0.8 0.8")  # fmt: skip
-    ET.SubElement(world, "geom", name="floor", type="plane", size=_vec([3 * extent] * 2 + [0.05]),
-                  material="grid", friction="1 0.005 0.0001")  # fmt: skip
+    ET.SubElement(
+        world,
+        "light",
+        pos=_vec([0, 0, 3 * extent]),
+        dir="0 0 -1",
+        directional="true",
+        diffuse="0.8 0.8 0.8",
+    )
+    ET.SubElement(
+        world,
+        "geom",
+        name="floor",
+        type="plane",
+        size=_vec([3 * extent] * 2 + [0.05]),
+        material="grid",
+        friction="1 0.005 0.0001",
+    )
     return root, world
 
 
@@ -90,11 +131,7 @@ def _link_segments(axis: FloatArray, end: FloatArray) -> list[tuple[FloatArray, 
     """
     foot = axis * float(axis @ end)
     points = [np.zeros(3), foot, end]
-    return [
-        (a, b)
-        for a, b in zip(points[:-1], points[1:], strict=True)
-        if np.linalg.norm(b - a) > _MIN_SEGMENT
-    ]
+    return [(a, b) for a, b in itertools.pairwise(points) if np.linalg.norm(b - a) > _MIN_SEGMENT]
 
 
 def chain_mjcf(
@@ -121,23 +158,38 @@ def chain_mjcf(
     reach = max(robot.reach(), link_radius)
     root, world = _scene_root(robot.name, timestep, reach)
     base = robot.base
-    parent = ET.SubElement(world, "body", name="base", pos=_vec(base[:3, 3]),
-                           quat=_quat(base[:3, :3]))  # fmt: skip
+    parent = ET.SubElement(
+        world, "body", name="base", pos=_vec(base[:3, 3]), quat=_quat(base[:3, :3])
+    )
     if base[2, 3] > link_radius:
         # A pedestal from the floor up to the base, drawn in the base's frame.
         floor = base[:3, :3].T @ (np.array([0.0, 0.0, 0.0]) - base[:3, 3])
-        ET.SubElement(parent, "geom", type="cylinder", fromto=_vec([*floor, 0.0, 0.0, 0.0]),
-                      size=_num(1.5 * link_radius), material="base", contype="0",
-                      conaffinity="0")  # fmt: skip
+        ET.SubElement(
+            parent,
+            "geom",
+            type="cylinder",
+            fromto=_vec([*floor, 0.0, 0.0, 0.0]),
+            size=_num(1.5 * link_radius),
+            material="base",
+            contype="0",
+            conaffinity="0",
+        )
     joints = robot.joints
     for index, joint in enumerate(joints):
         frame = joint.origin.copy()
         if joint.revolute:
-            frame[:3, :3] = frame[:3, :3] @ Rotation.from_rotvec(joint.axis * joint.offset).as_matrix()
+            frame[:3, :3] = (
+                frame[:3, :3] @ Rotation.from_rotvec(joint.axis * joint.offset).as_matrix()
+            )
         else:
             frame[:3, 3] = frame[:3, 3] + frame[:3, :3] @ (joint.axis * joint.offset)
-        body = ET.SubElement(parent, "body", name=f"link{index + 1}", pos=_vec(frame[:3, 3]),
-                             quat=_quat(frame[:3, :3]))  # fmt: skip
+        body = ET.SubElement(
+            parent,
+            "body",
+            name=f"link{index + 1}",
+            pos=_vec(frame[:3, 3]),
+            quat=_quat(frame[:3, :3]),
+        )
         if gravity_compensation:
             body.set("gravcomp", "1")
         attributes = {
@@ -160,23 +212,44 @@ def chain_mjcf(
         end = joints[index + 1].origin[:3, 3] if index + 1 < len(joints) else robot.tool[:3, 3]
         segments = _link_segments(joint.axis, end)
         lengths = np.array([np.linalg.norm(b - a) for a, b in segments])
-        ET.SubElement(body, "geom", type="sphere", size=_num(1.4 * link_radius),
-                      mass=_num(link_mass[index] if not segments else 0.0),
-                      material="joint", contype="0", conaffinity="0")  # fmt: skip
+        ET.SubElement(
+            body,
+            "geom",
+            type="sphere",
+            size=_num(1.4 * link_radius),
+            mass=_num(link_mass[index] if not segments else 0.0),
+            material="joint",
+            contype="0",
+            conaffinity="0",
+        )
         for (a, b), length in zip(segments, lengths, strict=True):
-            ET.SubElement(body, "geom", type="capsule", fromto=_vec([*a, *b]),
-                          size=_num(link_radius),
-                          mass=_num(link_mass[index] * length / lengths.sum()),
-                          material="link", contype="0", conaffinity="0")  # fmt: skip
+            ET.SubElement(
+                body,
+                "geom",
+                type="capsule",
+                fromto=_vec([*a, *b]),
+                size=_num(link_radius),
+                mass=_num(link_mass[index] * length / lengths.sum()),
+                material="link",
+                contype="0",
+                conaffinity="0",
+            )
         parent = body
     tool = robot.tool
-    ET.SubElement(parent, "site", name="tool", pos=_vec(tool[:3, 3]), quat=_quat(tool[:3, :3]),
-                  size=_num(link_radius))  # fmt: skip
+    ET.SubElement(
+        parent,
+        "site",
+        name="tool",
+        pos=_vec(tool[:3, 3]),
+        quat=_quat(tool[:3, :3]),
+        size=_num(link_radius),
+    )
     actuator = ET.SubElement(root, "actuator")
     for spec in actuators:
         for index, joint in enumerate(joints):
-            element = ET.SubElement(actuator, spec.kind, name=f"{spec.kind}_{joint.name}",
-                                    joint=joint.name)  # fmt: skip
+            element = ET.SubElement(
+                actuator, spec.kind, name=f"{spec.kind}_{joint.name}", joint=joint.name
+            )
             if spec.kp is not None:
                 element.set("kp", _num(spec.kp[index]))
             if spec.kv is not None:
@@ -218,37 +291,73 @@ def diff_drive_mjcf(
     chassis_mass = max(mass - 2.0 * wheel_mass, 0.1 * mass)
     root, world = _scene_root(model.name, timestep, max(length, track) * 4.0)
     x, y, theta = (float(v) for v in pose)
-    chassis = ET.SubElement(world, "body", name="chassis", pos=_vec([x, y, radius]),
-                            quat=_vec([np.cos(theta / 2), 0.0, 0.0, np.sin(theta / 2)]))  # fmt: skip
+    chassis = ET.SubElement(
+        world,
+        "body",
+        name="chassis",
+        pos=_vec([x, y, radius]),
+        quat=_vec([np.cos(theta / 2), 0.0, 0.0, np.sin(theta / 2)]),
+    )
     ET.SubElement(chassis, "freejoint", name="chassis")
-    ET.SubElement(chassis, "geom", name="chassis", type="box",
-                  size=_vec([length / 2, width / 2, height / 2]), pos=_vec([0, 0, height / 2]),
-                  mass=_num(chassis_mass), material="link")  # fmt: skip
+    ET.SubElement(
+        chassis,
+        "geom",
+        name="chassis",
+        type="box",
+        size=_vec([length / 2, width / 2, height / 2]),
+        pos=_vec([0, 0, height / 2]),
+        mass=_num(chassis_mass),
+        material="link",
+    )
     ET.SubElement(chassis, "site", name="chassis", size="0.01")
     for side, sign in (("left", 1.0), ("right", -1.0)):
-        wheel = ET.SubElement(chassis, "body", name=f"{side}_wheel", pos=_vec([0, sign * track / 2, 0]))
-        ET.SubElement(wheel, "joint", name=f"{side}_wheel", type="hinge", axis="0 1 0",
-                      damping=_num(wheel_damping))  # fmt: skip
+        wheel = ET.SubElement(
+            chassis, "body", name=f"{side}_wheel", pos=_vec([0, sign * track / 2, 0])
+        )
+        ET.SubElement(
+            wheel,
+            "joint",
+            name=f"{side}_wheel",
+            type="hinge",
+            axis="0 1 0",
+            damping=_num(wheel_damping),
+        )
         # A tyre-shaped ellipsoid touches flat ground at one point below the axle; a
         # cylinder touches it along both rims, which scrub against each other in turns.
-        ET.SubElement(wheel, "geom", name=f"{side}_wheel", type="ellipsoid",
-                      size=_vec([radius, wheel_width / 2, radius]),
-                      mass=_num(wheel_mass), material="joint",
-                      friction=_vec([wheel_friction, 0.005, 0.0001]))  # fmt: skip
+        ET.SubElement(
+            wheel,
+            "geom",
+            name=f"{side}_wheel",
+            type="ellipsoid",
+            size=_vec([radius, wheel_width / 2, radius]),
+            mass=_num(wheel_mass),
+            material="joint",
+            friction=_vec([wheel_friction, 0.005, 0.0001]),
+        )
     for end, sign in (("front", 1.0), ("rear", -1.0)):
         # Higher priority: the caster's own (frictionless) contact settings win.
-        ET.SubElement(chassis, "geom", name=f"{end}_caster", type="sphere",
-                      size=_num(caster_radius),
-                      pos=_vec([sign * (length / 2 - caster_radius), 0, caster_radius - radius]),
-                      mass=_num(0.01 * mass), condim="1", priority="1", material="base")  # fmt: skip
+        ET.SubElement(
+            chassis,
+            "geom",
+            name=f"{end}_caster",
+            type="sphere",
+            size=_num(caster_radius),
+            pos=_vec([sign * (length / 2 - caster_radius), 0, caster_radius - radius]),
+            mass=_num(0.01 * mass),
+            condim="1",
+            priority="1",
+            material="base",
+        )
     actuator = ET.SubElement(root, "actuator")
     for side in ("left", "right"):
-        ET.SubElement(actuator, "velocity", name=f"{side}_wheel", joint=f"{side}_wheel",
-                      kv=_num(wheel_gain))  # fmt: skip
+        ET.SubElement(
+            actuator, "velocity", name=f"{side}_wheel", joint=f"{side}_wheel", kv=_num(wheel_gain)
+        )
     sensor = ET.SubElement(root, "sensor")
     ET.SubElement(sensor, "framepos", name="chassis_position", objtype="site", objname="chassis")
-    ET.SubElement(sensor, "framequat", name="chassis_orientation", objtype="site",
-                  objname="chassis")  # fmt: skip
+    ET.SubElement(
+        sensor, "framequat", name="chassis_orientation", objtype="site", objname="chassis"
+    )
     for kind in ("jointpos", "jointvel", "jointactuatorfrc"):
         for side in ("left", "right"):
             ET.SubElement(sensor, kind, name=f"{kind}_{side}_wheel", joint=f"{side}_wheel")

@@ -17,13 +17,13 @@ import numpy as np
 
 from trajkit._validation import FloatArray, finite_array
 from trajkit.errors import InvalidInputError
-from trajkit.io.atomic import staged_files
+from trajkit.io.atomic import atomic_write, staged_files
 from trajkit.sim.arm import ArmLog
 from trajkit.sim.engine import SimulationUnavailableError, mujoco_module
 from trajkit.sim.scenes import ArmScene, MobileScene
 from trajkit.sim.wheeled import PhysicsLog, _Base
 
-__all__ = ["render_frames"]
+__all__ = ["frames", "render_frames", "write_png"]
 
 GL_HINT = (
     "off-screen rendering needs an OpenGL backend: EGL (Debian package libegl1 with "
@@ -49,6 +49,102 @@ def _camera(mujoco: Any, extent: float, lookat: FloatArray, azimuth: float) -> A
     return camera
 
 
+def frames(
+    scene: ArmScene | MobileScene,
+    log: ArmLog | PhysicsLog,
+    times: Sequence[float] | FloatArray,
+    *,
+    width: int = 640,
+    height: int = 480,
+    azimuth: float = 90.0,
+) -> list[np.ndarray]:
+    """Images of the simulated robot at ``times`` (s) of ``log``, as RGB arrays.
+
+    Parameters
+    ----------
+    scene : ArmScene or MobileScene
+        The scene the log was run in.
+    log : ArmLog or PhysicsLog
+    times : sequence of float
+        When (s); clamped to the log.
+    width, height : int
+        Image size in pixels (at most 1280 × 960).
+    azimuth : float
+        Camera azimuth (deg).
+
+    Returns
+    -------
+    list of ndarray, shape (height, width, 3), uint8
+
+    Raises
+    ------
+    SimulationUnavailableError
+        If no OpenGL backend works here, with what to install.
+    """
+    if not (
+        isinstance(width, int)
+        and isinstance(height, int)
+        and 0 < width <= 1280
+        and 0 < height <= 960
+    ):
+        raise InvalidInputError(f"width x height must be within 1280 x 960, got {width} x {height}")
+    when = np.atleast_1d(finite_array("times", times, unit="s"))
+    if when.ndim != 1 or when.size == 0:
+        raise InvalidInputError("times must be a non-empty list of times (s)")
+    rows = np.searchsorted(log.t, np.clip(when, log.t[0], log.t[-1]))
+    mujoco = mujoco_module()
+    if isinstance(scene, ArmScene) and isinstance(log, ArmLog):
+        if log.actual.shape[1] != scene.ndof:
+            raise InvalidInputError(
+                f"the log has {log.actual.shape[1]} joints, the scene {scene.ndof}"
+            )
+        model = scene.compiled(("render",), [], scene.gravity_compensation)
+        extent = scene.robot.reach()
+        # Every frame looks at the middle of the arm's whole motion.
+        centre = scene.robot.points(log.actual[rows]).reshape(-1, 3).mean(axis=0)
+
+        def pose(data: Any, row: int) -> FloatArray:
+            data.qpos[:] = log.actual[row]
+            return centre
+    elif isinstance(scene, MobileScene) and isinstance(log, PhysicsLog):
+        # The camera follows the base, a few robot lengths away.
+        extent = 3.0 * max(scene.model.effective_track, scene.model.wheelbase)
+        model = scene.compiled()
+        base = _Base(model)
+
+        def pose(data: Any, row: int) -> FloatArray:
+            base.place(data, log.actual[row], scene.model.wheel_radius)
+            return np.append(log.actual[row, :2], 0.0)
+    else:
+        raise InvalidInputError(
+            f"a {type(log).__name__} does not belong to a {type(scene).__name__}"
+        )
+    renderer = _renderer(model, height, width)
+    data = mujoco.MjData(model)
+    images = []
+    try:
+        for row in rows:
+            lookat = pose(data, int(row))
+            mujoco.mj_forward(model, data)
+            renderer.update_scene(data, camera=_camera(mujoco, extent, lookat, azimuth))
+            images.append(renderer.render().copy())
+    finally:
+        renderer.close()
+    return images
+
+
+def write_png(image: np.ndarray, path: str | os.PathLike[str]) -> Path:
+    """Write an RGB image atomically as PNG."""
+    import io
+
+    import matplotlib.image
+
+    buffer = io.BytesIO()
+    matplotlib.image.imsave(buffer, image, format="png")
+    data = buffer.getvalue()
+    return atomic_write(path, lambda handle: handle.write(data))
+
+
 def render_frames(
     scene: ArmScene | MobileScene,
     log: ArmLog | PhysicsLog,
@@ -61,70 +157,27 @@ def render_frames(
 ) -> list[Path]:
     """Render the simulated robot at a few instants of ``log`` to PNG files.
 
-    Parameters
-    ----------
-    scene : ArmScene or MobileScene
-        The scene the log was run in.
-    log : ArmLog or PhysicsLog
-    paths : sequence of path
-        One PNG per frame.
-    times : sequence of float, optional
-        When (s); default evenly spread from start to end, one per path.
-    width, height : int
-        Image size in pixels (at most 1280 × 960).
-    azimuth : float
-        Camera azimuth (deg).
+    ``paths`` gives one ``.png`` per frame; ``times`` (s) default to evenly spread
+    from start to end. Every frame is rendered before any file is written, so a
+    failure leaves none. Other parameters and errors as :func:`frames`.
 
     Returns
     -------
     list of Path
-        The files written (all of them, or none if rendering fails).
+        The files written.
     """
     paths = [Path(p) for p in paths]
     if not paths or any(p.suffix.lower() != ".png" for p in paths):
         raise InvalidInputError("paths must be one or more .png files")
-    if not (0 < width <= 1280 and 0 < height <= 960):
-        raise InvalidInputError(f"width x height must be within 1280 x 960, got {width} x {height}")
-    when = np.linspace(log.t[0], log.t[-1], len(paths)) if times is None else finite_array(
-        "times", times, unit="s"
+    when = (
+        np.linspace(log.t[0], log.t[-1], len(paths))
+        if times is None
+        else finite_array("times", times, unit="s")
     )
     if when.shape != (len(paths),):
         raise InvalidInputError(f"times must give one time per path ({len(paths)})")
-    rows = np.searchsorted(log.t, np.clip(when, log.t[0], log.t[-1]))
-    mujoco = mujoco_module()
-    if isinstance(scene, ArmScene) and isinstance(log, ArmLog):
-        model = scene.compiled(("render",), [], scene.gravity_compensation)
-        extent = scene.robot.reach()
-        # Every frame looks at the middle of the arm's whole motion.
-        centre = scene.robot.points(log.actual[rows]).reshape(-1, 3).mean(axis=0)
-
-        def pose(data: Any, row: int) -> FloatArray:
-            data.qpos[:] = log.actual[row]
-            return centre
-    elif isinstance(scene, MobileScene) and isinstance(log, PhysicsLog):
-        model = scene.compiled()
-        # The camera follows the base, a few robot lengths away.
-        extent = 3.0 * max(scene.model.effective_track, scene.model.wheelbase)
-        base = _Base(model)
-
-        def pose(data: Any, row: int) -> FloatArray:
-            base.place(data, log.actual[row], scene.model.wheel_radius)
-            return np.append(log.actual[row, :2], 0.0)
-    else:
-        raise InvalidInputError(
-            f"a {type(log).__name__} does not belong to a {type(scene).__name__}"
-        )
-    renderer = _renderer(model, height, width)
-    data = mujoco.MjData(model)
-    import matplotlib.image
-
+    images = frames(scene, log, when, width=width, height=height, azimuth=azimuth)
     with staged_files() as stage:
-        try:
-            for path, row in zip(paths, rows, strict=True):
-                lookat = pose(data, int(row))
-                mujoco.mj_forward(model, data)
-                renderer.update_scene(data, camera=_camera(mujoco, extent, lookat, azimuth))
-                matplotlib.image.imsave(stage.path(path), renderer.render(), format="png")
-        finally:
-            renderer.close()
+        for path, image in zip(paths, images, strict=True):
+            write_png(image, stage.path(path))
     return stage.targets

@@ -84,8 +84,9 @@ def run(
         if unknown:
             raise InvalidInputError(f"unknown option(s) for a mobile run: {sorted(unknown)}")
         rate = DEFAULT_RATES_HZ["mobile"] if control_rate_hz is None else control_rate_hz
-        return run_mobile(scene, plan, control_rate_hz=rate, duration=duration,
-                          controller=controller, **options)  # fmt: skip
+        return run_mobile(
+            scene, plan, control_rate_hz=rate, duration=duration, controller=controller, **options
+        )
     raise InvalidInputError(
         f"scene must be an ArmScene or a MobileScene, got {type(scene).__name__}"
     )

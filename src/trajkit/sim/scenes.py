@@ -41,7 +41,9 @@ def _per_joint(name: str, value: ArrayLike, ndof: int, unit: str, *, zero_ok: bo
 def _timestep(value: float) -> float:
     step = positive_scalar("timestep", value, unit="s")
     if step > 0.01:
-        raise InvalidInputError(f"timestep must be at most 0.01 s for stable contacts, got {step:g} s")
+        raise InvalidInputError(
+            f"timestep must be at most 0.01 s for stable contacts, got {step:g} s"
+        )
     return step
 
 
@@ -93,12 +95,15 @@ class ArmScene:
             else positive_scalar("link_radius", self.link_radius, unit="m")
         )
         object.__setattr__(self, "link_radius", radius)
-        object.__setattr__(self, "link_mass", _per_joint("link_mass", self.link_mass, n, "kg",
-                                                          zero_ok=False))  # fmt: skip
-        object.__setattr__(self, "damping", _per_joint("damping", self.damping, n, "N·m·s/rad",
-                                                        zero_ok=True))  # fmt: skip
-        object.__setattr__(self, "armature", _per_joint("armature", self.armature, n, "kg·m²",
-                                                         zero_ok=True))  # fmt: skip
+        object.__setattr__(
+            self, "link_mass", _per_joint("link_mass", self.link_mass, n, "kg", zero_ok=False)
+        )
+        object.__setattr__(
+            self, "damping", _per_joint("damping", self.damping, n, "N·m·s/rad", zero_ok=True)
+        )
+        object.__setattr__(
+            self, "armature", _per_joint("armature", self.armature, n, "kg·m²", zero_ok=True)
+        )
         if self.effort_limit is not None:
             limit = _per_joint("effort_limit", self.effort_limit, n, "N·m", zero_ok=False)
             object.__setattr__(self, "effort_limit", limit)
@@ -110,8 +115,12 @@ class ArmScene:
         """Number of joints."""
         return self.robot.ndof
 
-    def mjcf(self, actuators: Sequence[Actuator] = (Actuator("motor"),), *,
-             gravity_compensation: bool | None = None) -> str:  # fmt: skip
+    def mjcf(
+        self,
+        actuators: Sequence[Actuator] = (Actuator("motor"),),
+        *,
+        gravity_compensation: bool | None = None,
+    ) -> str:
         """The scene as MJCF text, with one of each ``actuators`` on every joint."""
         return chain_mjcf(
             self.robot,
@@ -132,9 +141,7 @@ class ArmScene:
         from trajkit.sim.engine import compile_scene
 
         if key not in self._compiled:
-            self._compiled[key] = compile_scene(
-                self.mjcf(actuators, gravity_compensation=gravity)
-            )
+            self._compiled[key] = compile_scene(self.mjcf(actuators, gravity_compensation=gravity))
         return self._compiled[key]
 
 
@@ -189,8 +196,13 @@ class MobileScene:
                 "a mobile scene needs a DiffDrive model (wheels to drive), got "
                 f"{type(self.model).__name__}"
             )
-        for name, unit in (("wheel_width", "m"), ("wheel_mass", "kg"), ("caster_radius", "m"),
-                           ("wheel_friction", ""), ("wheel_gain", "N·m·s/rad")):  # fmt: skip
+        for name, unit in (
+            ("wheel_width", "m"),
+            ("wheel_mass", "kg"),
+            ("caster_radius", "m"),
+            ("wheel_friction", ""),
+            ("wheel_gain", "N·m·s/rad"),
+        ):
             object.__setattr__(self, name, positive_scalar(name, getattr(self, name), unit=unit))
         damping = finite_array("wheel_damping", self.wheel_damping, unit="N·m·s/rad")
         if damping.ndim != 0 or damping < 0.0:

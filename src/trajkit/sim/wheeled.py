@@ -85,19 +85,42 @@ class PhysicsLog(SimulationLog):
     def to_csv(self, path: str | os.PathLike[str]) -> Path:
         """Every row: time, desired and true poses, odometry, kinematic prediction, wheels."""
         header = [
-            "t [s]", "x_desired [m]", "y_desired [m]", "theta_desired [rad]",
-            "x [m]", "y [m]", "theta [rad]",
-            "x_odometry [m]", "y_odometry [m]", "theta_odometry [rad]",
-            "x_kinematic [m]", "y_kinematic [m]", "theta_kinematic [rad]",
-            "v_desired [m/s]", "omega_desired [rad/s]",
-            "v_command [m/s]", "omega_command [rad/s]",
-            "wheel_left_command [rad/s]", "wheel_right_command [rad/s]",
-            "wheel_left [rad/s]", "wheel_right [rad/s]",
-            "torque_left [N·m]", "torque_right [N·m]",
-        ]  # fmt: skip
-        columns = [self.t[:, None], self.desired, self.actual, self.odometry, self.kinematic,
-                   self.desired_twist, self.commands, self.wheel_speeds,
-                   self.measured_wheel_speeds, self.wheel_torques]  # fmt: skip
+            "t [s]",
+            "x_desired [m]",
+            "y_desired [m]",
+            "theta_desired [rad]",
+            "x [m]",
+            "y [m]",
+            "theta [rad]",
+            "x_odometry [m]",
+            "y_odometry [m]",
+            "theta_odometry [rad]",
+            "x_kinematic [m]",
+            "y_kinematic [m]",
+            "theta_kinematic [rad]",
+            "v_desired [m/s]",
+            "omega_desired [rad/s]",
+            "v_command [m/s]",
+            "omega_command [rad/s]",
+            "wheel_left_command [rad/s]",
+            "wheel_right_command [rad/s]",
+            "wheel_left [rad/s]",
+            "wheel_right [rad/s]",
+            "torque_left [N·m]",
+            "torque_right [N·m]",
+        ]
+        columns = [
+            self.t[:, None],
+            self.desired,
+            self.actual,
+            self.odometry,
+            self.kinematic,
+            self.desired_twist,
+            self.commands,
+            self.wheel_speeds,
+            self.measured_wheel_speeds,
+            self.wheel_torques,
+        ]
         return write_csv(path, header, np.concatenate(columns, axis=1))
 
 
@@ -121,8 +144,12 @@ class _Base:
 
     def place(self, data: Any, pose: FloatArray, height: float) -> None:
         data.qpos[self.free : self.free + 3] = pose[0], pose[1], height
-        data.qpos[self.free + 3 : self.free + 7] = (np.cos(pose[2] / 2), 0.0, 0.0,
-                                                    np.sin(pose[2] / 2))  # fmt: skip
+        data.qpos[self.free + 3 : self.free + 7] = (
+            np.cos(pose[2] / 2),
+            0.0,
+            0.0,
+            np.sin(pose[2] / 2),
+        )
 
 
 def run_mobile(
@@ -147,9 +174,7 @@ def run_mobile(
             f"controller must have a law(plan, start) method, got {type(controller).__name__}"
         )
     if feedback not in ("ground_truth", "odometry"):
-        raise InvalidInputError(
-            f"feedback must be 'ground_truth' or 'odometry', got {feedback!r}"
-        )
+        raise InvalidInputError(f"feedback must be 'ground_truth' or 'odometry', got {feedback!r}")
     end = plan.duration if duration is None else positive_scalar("duration", duration, unit="s")
     if end <= 0.0:
         raise InvalidInputError("the plan has no duration to simulate; pass duration=")
@@ -173,7 +198,11 @@ def run_mobile(
     commands = np.empty((count, 2))
     odometry = start.copy()
     for k in range(count):  # a closed loop is sequential by nature
-        truth[k], angles[k], speeds[k] = base.pose(data), data.qpos[base.angles], data.qvel[base.speeds]
+        truth[k], angles[k], speeds[k] = (
+            base.pose(data),
+            data.qpos[base.angles],
+            data.qvel[base.speeds],
+        )
         if k > 0:
             odometry = _odometry_step(odometry, angles[k] - angles[k - 1], robot)
         commands[k] = commander(truth[k] if feedback == "ground_truth" else odometry)
@@ -200,5 +229,6 @@ def run_mobile(
 def _odometry_step(pose: FloatArray, turned_angles: FloatArray, robot: Any) -> FloatArray:
     """The odometry pose after the wheels turned by ``turned_angles`` (left, right; rad)."""
     left, right = robot.wheel_radius * turned_angles
-    return constant_twist_pose(pose, (left + right) / 2.0, (right - left) / robot.effective_track,
-                               1.0)  # fmt: skip
+    return constant_twist_pose(
+        pose, (left + right) / 2.0, (right - left) / robot.effective_track, 1.0
+    )
