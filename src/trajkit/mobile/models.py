@@ -169,6 +169,11 @@ class DiffDrive:
         half = 0.5 * self.effective_track * omega
         return np.stack([(v - half) / self.wheel_radius, (v + half) / self.wheel_radius], axis=-1)
 
+    def wheel_pair(self, v: float, omega: float) -> tuple[float, float]:
+        """:meth:`wheel_speeds` of one twist as two floats, unchecked: for control loops."""
+        half = 0.5 * self.effective_track * omega
+        return (v - half) / self.wheel_radius, (v + half) / self.wheel_radius
+
     def twist(self, wheel_speeds: ArrayLike) -> FloatArray:
         """Twists ``(v, ω)`` for wheel speeds ``(..., 2)`` = (left, right) in rad/s."""
         speeds = finite_array("wheel_speeds", wheel_speeds, unit="rad/s")

@@ -339,9 +339,7 @@ def _toward(
         return command
     lower, upper = float(limits.wheel_speed.lower), float(limits.wheel_speed.upper)
     fraction = 1.0
-    for before, after in zip(
-        model.wheel_speeds(*previous), model.wheel_speeds(*command), strict=True
-    ):
+    for before, after in zip(model.wheel_pair(*previous), model.wheel_pair(*command), strict=True):
         bound = upper if after > upper else lower if after < lower else None
         if bound is not None:
             fraction = min(fraction, (bound - before) / (after - before))

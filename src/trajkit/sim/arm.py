@@ -9,7 +9,8 @@ Four ways to drive the joints, as real arm controllers do:
   integrates it into a position setpoint (``kp``) and damps the velocity error
   (``kv``), as a velocity interface over a position loop does.
 * :class:`PDFeedforward` — the torque of the inverse dynamics along the plan
-  (from its accelerations) plus PD on the position and velocity errors.
+  (from its accelerations, for all control times at once) plus PD on the
+  position and velocity errors.
 * :class:`ComputedTorque` — inverse dynamics at the *measured* state with the
   plan's acceleration corrected by the errors: ``τ = M(q)(q̈_d + K_d ė + K_p e) + h(q, q̇)``.
 
@@ -30,6 +31,7 @@ import numpy as np
 from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
+from trajkit.sim.dynamics import inverse_dynamics
 from trajkit.sim.engine import control_grid, mujoco_module, open_loop
 from trajkit.sim.mjcf import Actuator
 from trajkit.sim.scenes import ArmScene
@@ -263,18 +265,6 @@ class ArmLog:
         return write_csv(path, header, np.concatenate(columns, axis=1))
 
 
-def _inverse_dynamics(model: Any, q: FloatArray, qd: FloatArray, qdd: FloatArray) -> FloatArray:
-    """Joint torques that produce ``qdd`` at each state (N·m), one row per state."""
-    mujoco = mujoco_module()
-    data = mujoco.MjData(model)
-    torque = np.empty_like(q)
-    for k in range(q.shape[0]):  # MuJoCo's inverse dynamics takes one state per call
-        data.qpos[:], data.qvel[:], data.qacc[:] = q[k], qd[k], qdd[k]
-        mujoco.mj_inverse(model, data)
-        torque[k] = data.qfrc_inverse
-    return torque
-
-
 def run_arm(
     scene: ArmScene,
     plan: Trajectory,
@@ -316,7 +306,7 @@ def run_arm(
             model, data, control, desired, substeps
         )
     else:
-        torque = _inverse_dynamics(model, *desired) if torque_control else None
+        torque = inverse_dynamics(scene.robot, model, *desired) if torque_control else None
         commands = control.inputs(desired[0], desired[1], torque)
         sensors = open_loop(model, data, np.repeat(commands[:-1], substeps, axis=0), commands[-1])
         rows = sensors[::substeps]
@@ -340,21 +330,30 @@ def _computed_torque(
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     mujoco = mujoco_module()
     kp, kd = control.gains()
-    scratch = mujoco.MjData(model)
     q_d, qd_d, qdd_d = desired
     count, ndof = q_d.shape
-    actual, velocity = np.empty((count, ndof)), np.empty((count, ndof))
+    # a_ref = q̈_d + kd (q̇_d − q̇) + kp (q_d − q) is one matrix product per period,
+    # gains[k] @ (q, q̇, 1), with the plan's part in the last column: the loop's
+    # Python work stays a few calls.
+    gains = np.zeros((count, ndof, 2 * ndof + 1))
+    gains[:, :, :ndof] = -kp * np.eye(ndof)
+    gains[:, :, ndof : 2 * ndof] = -kd * np.eye(ndof)
+    gains[:, :, -1] = qdd_d + kd * qd_d + kp * q_d
+    states = np.ones((count, 2 * ndof + 1))
     commands, efforts = np.empty((count, ndof)), np.empty((count, ndof))
+    spec = mujoco.mjtState.mjSTATE_QPOS | mujoco.mjtState.mjSTATE_QVEL
+    qacc, ctrl, torque, applied = data.qacc, data.ctrl, data.qfrc_inverse, data.qfrc_actuator
     for k in range(count):  # feedback on the measured state: sequential by nature
-        q, qd = data.qpos.copy(), data.qvel.copy()
-        scratch.qpos[:], scratch.qvel[:] = q, qd
-        scratch.qacc[:] = qdd_d[k] + kd * (qd_d[k] - qd) + kp * (q_d[k] - q)
-        mujoco.mj_inverse(model, scratch)
-        data.ctrl[:] = scratch.qfrc_inverse
-        actual[k], velocity[k], commands[k] = q, qd, scratch.qfrc_inverse
+        mujoco.mj_getState(model, data, states[k, :-1], spec)
+        np.matmul(gains[k], states[k], out=qacc)
+        # Inverse dynamics on the simulation's own data: it reads qpos, qvel and qacc
+        # and writes only quantities the next step recomputes.
+        mujoco.mj_inverse(model, data)
+        ctrl[:] = torque
+        commands[k] = torque
         if k + 1 < count:
             mujoco.mj_step(model, data, substeps)
         else:
             mujoco.mj_forward(model, data)
-        efforts[k] = data.qfrc_actuator
-    return actual, velocity, commands, efforts
+        efforts[k] = applied
+    return states[:, :ndof], states[:, ndof:-1], commands, efforts

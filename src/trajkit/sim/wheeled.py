@@ -9,6 +9,7 @@ kinematic model says the same commands should have taken the robot.
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -125,30 +126,42 @@ class PhysicsLog(SimulationLog):
 
 
 class _Base:
-    """Reads the base's state out of MuJoCo's data (free joint first, then the wheels)."""
+    """Where the base's state sits in MuJoCo's ``qpos``/``qvel`` (free joint, wheels)."""
 
     def __init__(self, model: Any) -> None:
         mujoco = mujoco_module()
         joint = mujoco.mj_name2id
         kind = mujoco.mjtObj.mjOBJ_JOINT
-        self.free = model.jnt_qposadr[joint(model, kind, "chassis")]
+        self.free = int(model.jnt_qposadr[joint(model, kind, "chassis")])
         wheels = [joint(model, kind, f"{side}_wheel") for side in ("left", "right")]
         self.angles = model.jnt_qposadr[wheels]
         self.speeds = model.jnt_dofadr[wheels]
 
-    def pose(self, data: Any) -> FloatArray:
-        x, y = data.qpos[self.free], data.qpos[self.free + 1]
-        w, qx, qy, qz = data.qpos[self.free + 3 : self.free + 7]
+    def poses(self, qpos: FloatArray) -> FloatArray:
+        """Planar poses ``(x, y, yaw)`` of rows of ``qpos`` (..., nq)."""
+        f = self.free
+        w, qx, qy, qz = (qpos[..., f + i] for i in range(3, 7))
         yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-        return np.array([x, y, yaw])
+        return np.stack([qpos[..., f], qpos[..., f + 1], yaw], axis=-1)
+
+    def pose(self, qpos: FloatArray) -> FloatArray:
+        """:meth:`poses` of one ``qpos`` row, in scalar arithmetic (it runs every period)."""
+        f = self.free
+        w, qx, qy, qz = qpos[f + 3 : f + 7].tolist()
+        yaw = math.atan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
+        return np.array([qpos[f], qpos[f + 1], yaw])
 
     def place(self, data: Any, pose: FloatArray, height: float) -> None:
-        data.qpos[self.free : self.free + 3] = pose[0], pose[1], height
-        data.qpos[self.free + 3 : self.free + 7] = (
-            np.cos(pose[2] / 2),
-            0.0,
-            0.0,
-            np.sin(pose[2] / 2),
+        """Put the base at ``pose`` with its axle ``height`` above the ground, at rest."""
+        half = pose[2] / 2.0
+        data.qpos[self.free : self.free + 7] = (
+            pose[0],
+            pose[1],
+            height,
+            np.cos(half),
+            0,
+            0,
+            np.sin(half),
         )
 
 
@@ -193,23 +206,24 @@ def run_mobile(
     base.place(data, start, robot.wheel_radius)
     mujoco.mj_forward(model, data)
     count = times.size
-    truth, angles = np.empty((count, 3)), np.empty((count, 2))
-    speeds, torques = np.empty((count, 2)), np.empty((count, 2))
-    commands = np.empty((count, 2))
+    qpos, qvel = np.empty((count, model.nq)), np.empty((count, model.nv))
+    torques, commands = np.empty((count, 2)), np.empty((count, 2))
     odometry = start.copy()
     for k in range(count):  # a closed loop is sequential by nature
-        truth[k], angles[k], speeds[k] = (
-            base.pose(data),
-            data.qpos[base.angles],
-            data.qvel[base.speeds],
-        )
-        if k > 0:
-            odometry = _odometry_step(odometry, angles[k] - angles[k - 1], robot)
-        commands[k] = commander(truth[k] if feedback == "ground_truth" else odometry)
-        data.ctrl[:] = robot.wheel_speeds(*commands[k])
+        qpos[k], qvel[k] = data.qpos, data.qvel
+        if feedback == "odometry":
+            if k > 0:
+                turned = qpos[k, base.angles] - qpos[k - 1, base.angles]
+                odometry = _odometry_step(odometry, turned, robot)
+            v, w = commander(odometry)
+        else:
+            v, w = commander(base.pose(qpos[k]))
+        commands[k] = v, w
+        data.ctrl[:] = robot.wheel_pair(v, w)
         if k + 1 < count:
             mujoco.mj_step(model, data, substeps)
         torques[k] = data.actuator_force
+    truth, angles = base.poses(qpos), qpos[:, base.angles]
     # The true heading, unwrapped so that it compares with the plan's unwrapped heading.
     truth[:, 2] = start[2] + np.unwrap(wrap_angle(truth[:, 2] - start[2]))
     turned = robot.wheel_radius * np.diff(angles[:, 1] - angles[:, 0]) / robot.effective_track
@@ -220,7 +234,7 @@ def run_mobile(
         controller=getattr(controller, "name", type(controller).__name__),
         odometry=chain_arcs(start, rolled, turned),
         kinematic=chain_arcs(start, commands[:-1, 0] * period, commands[:-1, 1] * period),
-        measured_wheel_speeds=speeds,
+        measured_wheel_speeds=qvel[:, base.speeds],
         wheel_torques=torques,
         feedback=feedback,
     )
