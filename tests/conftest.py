@@ -7,8 +7,12 @@ import os
 import matplotlib
 from hypothesis import HealthCheck, settings
 
+from trajkit.sim.engine import choose_gl_backend
+
 # Plots render off screen, in CI and on a developer's machine alike.
 matplotlib.use("Agg")
+# So do MuJoCo's frames: its OpenGL backend is fixed when a test module first imports it.
+choose_gl_backend()
 
 # CI must be reproducible: the same examples every run. Locally, explore new ones.
 settings.register_profile(

@@ -160,6 +160,14 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     ]  # fmt: skip
     for stem in mobile_stems:
         expected |= {f"{stem}.png", f"{stem}_path.png", f"{stem}.csv"}
+    expected |= {
+        "seed000_rrbot_mujoco.png", "seed000_rrbot_mujoco.csv",
+        "seed000_jackal_goto_mujoco.png", "seed000_jackal_goto_mujoco_path.png",
+        "seed000_jackal_goto_mujoco.csv",
+    }  # fmt: skip
+    if "no frames rendered" not in out:  # frames need an OpenGL backend
+        for stem in ("seed000_rrbot_mujoco", "seed000_jackal_goto_mujoco"):
+            expected |= {f"{stem}_frame{i}.png" for i in range(3)}
     assert set(names) == expected
     assert not [name for name in names if name.startswith(".")]  # no temporaries left
     assert "piece 1: [0, 0, 1.3, -0.8]" in out
@@ -178,6 +186,9 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     assert "feedback linearization: RMS error" in out
     assert "seed 003 3-DOF arm, cubic line" in out and "OK" in out
     assert "seed 002 two-link arm" in out
+    assert "position servo with gravity compensation: max error 0.963° / 0.649°" in out
+    assert "computed torque (ω = 30 rad/s): max error 0.000106° / 7.14e-05°" in out
+    assert "kanayama at 50 Hz: ends at (4.9998 m, 3.0000 m, 1.5021 rad)" in out
     seed000 = tk.Samples.from_csv(out_dir / "seed000_cubic.csv")
     assert seed000.t[-1] == pytest.approx(11.1666666666666667, rel=1e-12)
 

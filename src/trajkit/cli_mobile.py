@@ -221,18 +221,21 @@ def run_mobile(args: argparse.Namespace) -> int:
             log = simulate(plan, controller, dt=args.dt, initial_pose=start,
                            command_rate_hz=args.rate_hz)  # fmt: skip
         title = f"figure eight {args.width:g} m x {args.height:g} m, {args.controller}"
-    print(describe(plan))
     images: list = []
+    lines = [describe(plan)]
     if args.sim == "mujoco":
         from trajkit import sim
 
         scene = sim.MobileScene(model)
-        log = sim.run(scene, plan, control_rate_hz=args.control_rate_hz or rate,
-                      controller=controller, initial_pose=start)  # fmt: skip
-        print(f"simulated in MuJoCo at {1.0 / (log.t[1] - log.t[0]):g} Hz: {log.summary()}")
+        rate_hz = args.control_rate_hz or rate or sim.DEFAULT_RATES_HZ["mobile"]
+        log = sim.run(scene, plan, control_rate_hz=rate_hz, controller=controller,
+                      initial_pose=start)  # fmt: skip
+        lines.append(f"simulated in MuJoCo at {rate_hz:g} Hz: {log.summary()}")
         images = render_or_note(scene, log, args.frames)
     elif log is not None:
-        print(f"tracking ({args.dt:g} s steps): {log.summary()}")
+        lines.append(f"tracking ({args.dt:g} s steps): {log.summary()}")
+    # Printed once everything has been computed: a failure prints only its error.
+    print("\n".join(lines))
     for path in _write(args, plan, log, title, images):
         print(f"wrote {path}")
     return 0

@@ -21,11 +21,15 @@ from trajkit.sim.arm import (
     VelocityServo,
     arm_controller,
 )
-from trajkit.sim.engine import SimulationUnavailableError, mujoco_available
+from trajkit.sim.engine import SimulationUnavailableError, choose_gl_backend, mujoco_available
 from trajkit.sim.render import frames, render_frames
 from trajkit.sim.run import DEFAULT_RATES_HZ, run
 from trajkit.sim.scenes import ArmScene, MobileScene, arm_scene, jackal_scene, rrbot_scene
 from trajkit.sim.wheeled import PhysicsLog
+
+# MuJoCo fixes its OpenGL backend when first imported: choose one that renders
+# without a screen before anything imports it.
+choose_gl_backend()
 
 __all__ = [
     "DEFAULT_RATES_HZ",

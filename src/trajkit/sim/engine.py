@@ -18,6 +18,7 @@ from trajkit.errors import InvalidInputError, TrajkitError
 
 __all__ = [
     "SimulationUnavailableError",
+    "choose_gl_backend",
     "compile_scene",
     "control_grid",
     "mujoco_available",
@@ -32,7 +33,8 @@ class SimulationUnavailableError(TrajkitError):
     """MuJoCo, or the OpenGL backend that off-screen rendering needs, is not available."""
 
 
-def _choose_gl_backend() -> None:
+def choose_gl_backend() -> None:
+    """Use EGL for rendering when no display is set and nothing else was chosen."""
     # MuJoCo picks its OpenGL backend when it is first imported. Without a screen
     # the default (GLFW) cannot open a context, while EGL renders off-screen.
     if "MUJOCO_GL" not in os.environ and not os.environ.get("DISPLAY"):
@@ -49,7 +51,7 @@ def mujoco_module() -> ModuleType:
     SimulationUnavailableError
         If MuJoCo is not installed, with the command that installs it.
     """
-    _choose_gl_backend()
+    choose_gl_backend()
     try:
         import mujoco
     except ImportError as exc:

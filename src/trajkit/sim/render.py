@@ -27,7 +27,8 @@ __all__ = ["frames", "render_frames", "write_png"]
 
 GL_HINT = (
     "off-screen rendering needs an OpenGL backend: EGL (Debian package libegl1 with "
-    "libgl1-mesa-dri, MUJOCO_GL=egl) or OSMesa (libosmesa6, MUJOCO_GL=osmesa)"
+    "libgl1-mesa-dri, MUJOCO_GL=egl) or OSMesa (libosmesa6, MUJOCO_GL=osmesa), chosen "
+    "before MuJoCo is first imported"
 )
 
 
