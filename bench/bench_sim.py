@@ -31,6 +31,7 @@ import numpy as np
 import trajkit as tk
 from trajkit import mobile, sim
 from trajkit.kinematics import UR5
+from trajkit.sim.arm import model_for
 
 
 def median_seconds(function, repeats: int) -> float:
@@ -45,7 +46,7 @@ def median_seconds(function, repeats: int) -> float:
 def arm_case(label, scene, plan, controller, rate_hz):
     run = lambda: sim.run(scene, plan, controller=controller, control_rate_hz=rate_hz)  # noqa: E731
     log = run()  # compiles and caches the model
-    model = next(iter(scene._compiled.values()))
+    model = model_for(scene, controller)
     data = mujoco.MjData(model)
     steps = (log.t.size - 1) * round(1.0 / (rate_hz * scene.timestep))
     periods = log.t.size

@@ -44,6 +44,7 @@ __all__ = [
     "PositionServo",
     "VelocityServo",
     "arm_controller",
+    "model_for",
     "run_arm",
 ]
 
@@ -265,6 +266,18 @@ class ArmLog:
         return write_csv(path, header, np.concatenate(columns, axis=1))
 
 
+def model_for(scene: ArmScene, controller: str | ArmController) -> Any:
+    """The scene's MuJoCo model with ``controller``'s actuators (compiled once).
+
+    Torque controllers compute gravity in their own inverse dynamics, so their
+    model never adds the servo's gravity compensation.
+    """
+    control = arm_controller(controller)
+    torque_control = isinstance(control, (PDFeedforward, ComputedTorque))
+    return scene.compiled(control.actuators(scene.ndof),
+                          scene.gravity_compensation and not torque_control)  # fmt: skip
+
+
 def run_arm(
     scene: ArmScene,
     plan: Trajectory,
@@ -290,10 +303,8 @@ def run_arm(
         raise InvalidInputError("the plan has no duration to simulate; pass duration=")
     times, substeps = control_grid(scene.timestep, end - plan.start_time, control_rate_hz)
     ndof = scene.ndof
-    actuators = control.actuators(ndof)
     torque_control = isinstance(control, (PDFeedforward, ComputedTorque))
-    gravity = scene.gravity_compensation and not torque_control
-    model = scene.compiled((type(control).__name__, repr(control)), actuators, gravity)
+    model = model_for(scene, control)
     mujoco = mujoco_module()
     data = mujoco.MjData(model)
     desired = [plan.evaluate(plan.start_time + times, order) for order in (0, 1, 2)]

@@ -36,6 +36,12 @@ class Actuator:
     kp: FloatArray | None = None
     kv: FloatArray | None = None
 
+    def key(self) -> tuple:
+        """A hashable value equal for actuators that write the same MJCF."""
+        gains = [None if g is None else tuple(np.asarray(g, dtype=float).tolist())
+                 for g in (self.kp, self.kv)]  # fmt: skip
+        return (self.kind, *gains)
+
 
 def _num(value: float) -> str:
     return f"{float(value):.17g}"

@@ -99,7 +99,7 @@ def frames(
             raise InvalidInputError(
                 f"the log has {log.actual.shape[1]} joints, the scene {scene.ndof}"
             )
-        model = scene.compiled(("render",), [], scene.gravity_compensation)
+        model = scene.compiled([], scene.gravity_compensation)
         extent = scene.robot.reach()
         # Every frame looks at the middle of the arm's whole motion.
         centre = scene.robot.points(log.actual[rows]).reshape(-1, 3).mean(axis=0)

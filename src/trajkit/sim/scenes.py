@@ -136,12 +136,15 @@ class ArmScene:
             timestep=self.timestep,
         )
 
-    def compiled(self, key: object, actuators: Sequence[Actuator], gravity: bool) -> object:
-        """The MuJoCo model for one actuator set, compiled once per scene."""
+    def compiled(self, actuators: Sequence[Actuator], gravity_compensation: bool) -> object:
+        """The MuJoCo model with ``actuators``, compiled once per scene and actuator set."""
         from trajkit.sim.engine import compile_scene
 
+        key = (bool(gravity_compensation), *(actuator.key() for actuator in actuators))
         if key not in self._compiled:
-            self._compiled[key] = compile_scene(self.mjcf(actuators, gravity_compensation=gravity))
+            self._compiled[key] = compile_scene(
+                self.mjcf(actuators, gravity_compensation=gravity_compensation)
+            )
         return self._compiled[key]
 
 
