@@ -1236,3 +1236,19 @@ def test_boundary_velocity_exactly_at_the_limit_is_accepted():
     tr = tk.trapezoidal(0.0, 5.0, (-1.0, 2.0), 1.0, v0=2.0, vf=2.0)
     assert tr.duration == pytest.approx(2.5, rel=CLOSED_FORM)
     assert isclose(tr.velocity(1.0)[0], 2.0, rel_tol=CLOSED_FORM)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="BUG: a subnormal distance (1e-313 rad) with a moving end gives NaN phase times: "
+    "IndexError in _phases.merge_breakpoints (sync=None), InfeasibleError (sync='time'); "
+    "found by hypothesis's random exploration (dev profile)",
+)
+@pytest.mark.parametrize("sync", [None, "time"])
+def test_subnormal_distance_with_a_moving_end(sync):
+    tr = tk.trapezoidal(
+        np.array([0.0, 0.0, 0.0, 1e-313]), np.zeros(4), 1.0, 0.03125, sync=sync,
+        vf=np.array([1.0, 0.0, 0.0, 0.0]),
+    )  # fmt: skip
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=0.03125)).ok
+    np.testing.assert_allclose(tr.end_state.velocity, [1.0, 0.0, 0.0, 0.0], atol=1e-12)
