@@ -308,6 +308,9 @@ def run_arm(
     mujoco = mujoco_module()
     data = mujoco.MjData(model)
     desired = [plan.evaluate(plan.start_time + times, order) for order in (0, 1, 2)]
+    # Past the plan's end the robot is asked to stand still at the end position.
+    after = plan.start_time + times > plan.end_time
+    desired[1][after] = desired[2][after] = 0.0
     data.qpos[:], data.qvel[:] = desired[0][0], desired[1][0]
     if isinstance(control, VelocityServo):
         data.act[:] = desired[0][0]  # the integrated setpoint starts where the joints are

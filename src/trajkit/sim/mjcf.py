@@ -22,7 +22,7 @@ from trajkit._validation import FloatArray
 from trajkit.kinematics.chain import SerialChain
 from trajkit.mobile.models import DiffDrive
 
-__all__ = ["Actuator", "chain_mjcf", "diff_drive_mjcf"]
+__all__ = ["Actuator", "arm_extent", "chain_mjcf", "diff_drive_mjcf"]
 
 #: Below this (m) a link segment is not drawn: coincident joint origins.
 _MIN_SEGMENT = 1e-9
@@ -41,6 +41,22 @@ class Actuator:
         gains = [None if g is None else tuple(np.asarray(g, dtype=float).tolist())
                  for g in (self.kp, self.kv)]  # fmt: skip
         return (self.kind, *gains)
+
+
+def arm_extent(robot: SerialChain) -> float:
+    """A finite size of the arm (m), for link radii, the floor and the camera.
+
+    The reach where it is finite; else (an unbounded prismatic joint) the farthest
+    point of the arm at its middle configuration, at least 0.1 m.
+    """
+    reach = robot.reach()
+    if np.isfinite(reach):
+        return max(reach, 1e-3)
+    lower, upper = robot.lower, robot.upper
+    middle = np.where(np.isfinite(lower) & np.isfinite(upper), (lower + upper) / 2.0, 0.0)
+    middle = np.clip(middle, lower, upper)
+    points = robot.points(middle)
+    return max(float(np.linalg.norm(points - points[0], axis=1).max()), 0.1)
 
 
 def _num(value: float) -> str:
@@ -161,8 +177,7 @@ def chain_mjcf(
     tracking, not contact. Sensors: joint positions, velocities and the total
     actuator force of every joint, in that order.
     """
-    reach = max(robot.reach(), link_radius)
-    root, world = _scene_root(robot.name, timestep, reach)
+    root, world = _scene_root(robot.name, timestep, max(arm_extent(robot), link_radius))
     base = robot.base
     parent = ET.SubElement(
         world, "body", name="base", pos=_vec(base[:3, 3]), quat=_quat(base[:3, :3])
@@ -294,7 +309,9 @@ def diff_drive_mjcf(
     width = max(track - wheel_width - 0.02, 0.5 * track)
     height = max(0.5 * radius, 0.05)
     mass = 17.0 if model.mass is None else model.mass
-    chassis_mass = max(mass - 2.0 * wheel_mass, 0.1 * mass)
+    caster_mass = 0.01 * mass
+    # Wheels and casters are part of the model's mass (when it leaves room for a chassis).
+    chassis_mass = max(mass - 2.0 * wheel_mass - 2.0 * caster_mass, 0.1 * mass)
     root, world = _scene_root(model.name, timestep, max(length, track) * 4.0)
     x, y, theta = (float(v) for v in pose)
     chassis = ET.SubElement(
@@ -349,7 +366,7 @@ def diff_drive_mjcf(
             type="sphere",
             size=_num(caster_radius),
             pos=_vec([sign * (length / 2 - caster_radius), 0, caster_radius - radius]),
-            mass=_num(0.01 * mass),
+            mass=_num(caster_mass),
             condim="1",
             priority="1",
             material="base",

@@ -9,6 +9,7 @@ install; simulation itself never needs OpenGL.
 from __future__ import annotations
 
 import os
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,7 @@ from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import atomic_write, staged_files
 from trajkit.sim.arm import ArmLog
 from trajkit.sim.engine import SimulationUnavailableError, mujoco_module
+from trajkit.sim.mjcf import arm_extent
 from trajkit.sim.scenes import ArmScene, MobileScene
 from trajkit.sim.wheeled import PhysicsLog, _Base
 
@@ -32,8 +34,35 @@ GL_HINT = (
 )
 
 
+def _check_pair(scene: object, log: object) -> None:
+    if not (
+        (isinstance(scene, ArmScene) and isinstance(log, ArmLog))
+        or (isinstance(scene, MobileScene) and isinstance(log, PhysicsLog))
+    ):
+        raise InvalidInputError(
+            "frames need an ArmScene with its ArmLog or a MobileScene with its PhysicsLog, "
+            f"got a {type(scene).__name__} and a {type(log).__name__}"
+        )
+
+
+def _bound_backend() -> str | None:
+    """The OpenGL backend MuJoCo chose when it was imported, if it can be told."""
+    for name in ("mujoco.rendering.classic.gl_context", "mujoco.gl_context"):
+        module = sys.modules.get(name)
+        if module is not None and hasattr(module, "_MUJOCO_GL"):
+            return str(module._MUJOCO_GL)
+    return None
+
+
 def _renderer(model: Any, height: int, width: int) -> Any:
     mujoco = mujoco_module()
+    glfw = ("", "glfw", "enable", "enabled", "on", "true", "1")
+    if sys.platform == "linux" and not os.environ.get("DISPLAY") and _bound_backend() in glfw:
+        # GLFW needs a screen; trying it anyway can abort the interpreter.
+        raise SimulationUnavailableError(
+            f"{GL_HINT}: MuJoCo was imported with its default GLFW backend and there is no "
+            "display; set MUJOCO_GL=egl (or import trajkit.sim before mujoco)"
+        )
     try:
         return mujoco.Renderer(model, height, width)
     except Exception as exc:  # GL backends fail with many exception types
@@ -89,25 +118,26 @@ def frames(
         and 0 < height <= 960
     ):
         raise InvalidInputError(f"width x height must be within 1280 x 960, got {width} x {height}")
+    _check_pair(scene, log)
     when = np.atleast_1d(finite_array("times", times, unit="s"))
     if when.ndim != 1 or when.size == 0:
         raise InvalidInputError("times must be a non-empty list of times (s)")
     rows = np.searchsorted(log.t, np.clip(when, log.t[0], log.t[-1]))
     mujoco = mujoco_module()
-    if isinstance(scene, ArmScene) and isinstance(log, ArmLog):
+    if isinstance(scene, ArmScene):
         if log.actual.shape[1] != scene.ndof:
             raise InvalidInputError(
                 f"the log has {log.actual.shape[1]} joints, the scene {scene.ndof}"
             )
         model = scene.compiled([], scene.gravity_compensation)
-        extent = scene.robot.reach()
+        extent = arm_extent(scene.robot)
         # Every frame looks at the middle of the arm's whole motion.
         centre = scene.robot.points(log.actual[rows]).reshape(-1, 3).mean(axis=0)
 
         def pose(data: Any, row: int) -> FloatArray:
             data.qpos[:] = log.actual[row]
             return centre
-    elif isinstance(scene, MobileScene) and isinstance(log, PhysicsLog):
+    else:
         # The camera follows the base, a few robot lengths away.
         extent = 3.0 * max(scene.model.effective_track, scene.model.wheelbase)
         model = scene.compiled()
@@ -116,10 +146,7 @@ def frames(
         def pose(data: Any, row: int) -> FloatArray:
             base.place(data, log.actual[row], scene.model.wheel_radius)
             return np.append(log.actual[row, :2], 0.0)
-    else:
-        raise InvalidInputError(
-            f"a {type(log).__name__} does not belong to a {type(scene).__name__}"
-        )
+
     renderer = _renderer(model, height, width)
     data = mujoco.MjData(model)
     images = []
@@ -167,6 +194,7 @@ def render_frames(
     list of Path
         The files written.
     """
+    _check_pair(scene, log)
     paths = [Path(p) for p in paths]
     if not paths or any(p.suffix.lower() != ".png" for p in paths):
         raise InvalidInputError("paths must be one or more .png files")

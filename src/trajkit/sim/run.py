@@ -39,8 +39,8 @@ def run(
         How often commands are sent (Hz); the period must be a whole number of
         the scene's physics steps. Default 1000 Hz for arms, 50 Hz for bases.
     duration : float, optional
-        How long to run (s); default the plan's duration. After the plan's end its
-        final state is held.
+        How long to run (s); default the plan's duration. After the plan's end the
+        robot is asked to stand still at its final position (or pose).
     controller : optional
         Arms: ``"position"`` (default), ``"velocity"``, ``"pd_feedforward"``,
         ``"computed_torque"`` or one of :class:`PositionServo`,

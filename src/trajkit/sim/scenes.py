@@ -19,7 +19,7 @@ from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.kinematics import RRBot, SerialChain
 from trajkit.mobile.models import DiffDrive, jackal
-from trajkit.sim.mjcf import Actuator, chain_mjcf, diff_drive_mjcf
+from trajkit.sim.mjcf import Actuator, arm_extent, chain_mjcf, diff_drive_mjcf
 
 __all__ = ["ArmScene", "MobileScene", "arm_scene", "jackal_scene", "rrbot_scene"]
 
@@ -56,7 +56,8 @@ class ArmScene:
     robot : SerialChain
         Any chain of :mod:`trajkit.kinematics`; MuJoCo's joint positions equal its ``q``.
     link_radius : float, optional
-        Radius of the links' capsules (m); default 3% of the arm's reach, at least 1 cm.
+        Radius of the links' capsules (m); default 3% of the arm's reach (of its size
+        at mid-range with an unbounded prismatic joint), at least 1 cm.
     link_mass : float or array_like, shape (ndof,)
         Mass of the link each joint moves (kg), spread evenly along it.
     damping : float or array_like
@@ -90,7 +91,7 @@ class ArmScene:
             )
         n = self.robot.ndof
         radius = (
-            max(0.03 * self.robot.reach(), 0.01)
+            max(0.03 * arm_extent(self.robot), 0.01)
             if self.link_radius is None
             else positive_scalar("link_radius", self.link_radius, unit="m")
         )
@@ -169,7 +170,8 @@ class MobileScene:
     wheel_width : float
         Tyre width (m).
     wheel_mass : float
-        Mass of each wheel (kg), part of the model's mass.
+        Mass of each wheel (kg). Wheels, casters (1% of the mass each) and chassis add
+        up to the model's mass (the chassis keeps at least 10% of it).
     caster_radius : float
         Radius of the caster spheres (m).
     wheel_friction : float
