@@ -53,7 +53,9 @@ def arm_extent(robot: SerialChain) -> float:
     if np.isfinite(reach):
         return max(reach, 1e-3)
     lower, upper = robot.lower, robot.upper
-    middle = np.where(np.isfinite(lower) & np.isfinite(upper), (lower + upper) / 2.0, 0.0)
+    bounded = np.isfinite(lower) & np.isfinite(upper)
+    middle = np.zeros(robot.ndof)
+    middle[bounded] = (lower[bounded] + upper[bounded]) / 2.0
     middle = np.clip(middle, lower, upper)
     points = robot.points(middle)
     return max(float(np.linalg.norm(points - points[0], axis=1).max()), 0.1)
