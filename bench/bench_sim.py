@@ -31,7 +31,6 @@ import numpy as np
 import trajkit as tk
 from trajkit import mobile, sim
 from trajkit.kinematics import UR5
-from trajkit.sim.arm import model_for
 
 
 def median_seconds(function, repeats: int) -> float:
@@ -46,7 +45,7 @@ def median_seconds(function, repeats: int) -> float:
 def arm_case(label, scene, plan, controller, rate_hz):
     run = lambda: sim.run(scene, plan, controller=controller, control_rate_hz=rate_hz)  # noqa: E731
     log = run()  # compiles and caches the model
-    model = model_for(scene, controller)
+    model = scene.compiled(controller)
     data = mujoco.MjData(model)
     steps = (log.t.size - 1) * round(1.0 / (rate_hz * scene.timestep))
     periods = log.t.size

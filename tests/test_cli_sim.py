@@ -31,7 +31,7 @@ def test_plan_on_the_simulated_rrbot_writes_log_plot_and_frames(tmp_path, capsys
     assert "simulated on RRBot in MuJoCo, computed torque: 11168 control steps" in out
     assert "q1: RMS error" in out and "q2: RMS error" in out
     table = np.loadtxt(csv, delimiter=",", skiprows=1)
-    assert table.shape == (11168, 11)  # t, 2 desired, 2 actual, 2+2 velocities, 2 efforts
+    assert table.shape == (11168, 13)  # t, then 2 each: q, q_d, q̇, q̇_d, q̈_d, efforts
     assert np.abs(table[:, 3:5] - table[:, 1:3]).max() < np.radians(2e-4)  # measured 1.9e-6 rad
     assert plot.stat().st_size > 10_000
     if "no frames rendered" in err:
@@ -167,3 +167,25 @@ def test_check_sim_options_accepts_mujoco_with_outputs():
         InvalidInputError, match="--control-rate-hz, --frames, --sim-plot, --sim-csv"
     ):
         check_sim_options(args)
+
+
+def test_failed_mobile_write_leaves_no_frames_folder_and_prints_nothing(tmp_path, capsys):
+    frames = tmp_path / "frames"
+    status, out, err = run(
+        capsys, "mobile", "twist", "10", "0.1", "10", "2", "--sim", "mujoco",
+        "--frames", str(frames), "--csv", str(tmp_path / "missing" / "run.csv"),
+    )  # fmt: skip
+    assert status == 2 and out == ""
+    assert "does not exist" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_ur5_on_the_command_line_has_its_real_link_masses(capsys):
+    status, out, err = run(
+        capsys, "plan", "quintic", "--q0", "0", "--qf", "0.2,-0.3,0.4,0.1,0.2,0.3",
+        "--duration", "1", "--sim", "mujoco", "--robot", "ur5", "--controller", "pd_feedforward",
+    )  # fmt: skip
+    assert status == 0, err
+    # Peak shoulder torque: the 8.4 kg upper arm and the rest held against gravity.
+    shoulder = next(line for line in out.splitlines() if line.startswith("  shoulder_lift"))
+    assert float(shoulder.split("peak effort ")[1].split()[0]) > 40.0

@@ -65,6 +65,23 @@ def joint_vector(name: str, value: ArrayLike, ndof: int, *, unit: str = "") -> F
     return array
 
 
+def joint_parameter(
+    name: str, value: ArrayLike, ndof: int, unit: str, *, zero_ok: bool
+) -> FloatArray:
+    """One number or one per joint, broadcast to ``(ndof,)``: each ``>= 0`` or ``> 0``."""
+    array = finite_array(name, value, unit=unit)
+    if array.ndim == 0:
+        array = np.full(ndof, float(array))
+    if array.shape != (ndof,):
+        raise InvalidInputError(
+            f"{name} must be one number or one per joint ({ndof}), got shape {array.shape}"
+        )
+    if np.any(array < 0.0) or (not zero_ok and np.any(array == 0.0)):
+        rule = ">= 0" if zero_ok else "> 0"
+        raise InvalidInputError(f"{name} must be {rule} {unit}, got {array.tolist()}")
+    return array
+
+
 def positive_joint_vector(name: str, value: ArrayLike, ndof: int, *, unit: str = "") -> FloatArray:
     """Return ``value`` broadcast to ``(ndof,)``, every entry finite and > 0."""
     array = joint_vector(name, value, ndof, unit=unit)

@@ -159,7 +159,6 @@ def _write(
     images: list,
 ) -> list[Path]:
     with staged_files() as stage:
-        write_frames(images, args.frames, stage)
         if args.csv is not None:
             if log is None:
                 plan.to_csv(stage.path(args.csv), args.dt)
@@ -173,6 +172,7 @@ def _write(
                 plot.save(plot.mobile(data, title=title), stage.path(args.plot))
             if args.path_plot is not None:
                 plot.save(plot.mobile_path(data, title=title), stage.path(args.path_plot))
+        write_frames(images, args.frames, stage)
     return stage.targets
 
 
@@ -234,8 +234,9 @@ def run_mobile(args: argparse.Namespace) -> int:
         images = render_or_note(scene, log, args.frames)
     elif log is not None:
         lines.append(f"tracking ({args.dt:g} s steps): {log.summary()}")
-    # Printed once everything has been computed: a failure prints only its error.
+    written = _write(args, plan, log, title, images)
+    # Printed once everything has been computed and written: a failure prints only its error.
     print("\n".join(lines))
-    for path in _write(args, plan, log, title, images):
+    for path in written:
         print(f"wrote {path}")
     return 0

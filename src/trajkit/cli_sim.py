@@ -108,7 +108,8 @@ def simulate_arm(args: argparse.Namespace, trajectory: Trajectory) -> tuple[Any,
         raise InvalidInputError(
             f"--robot {args.robot} has {robot.ndof} joints but the move has {trajectory.ndof}"
         )
-    scene = sim.rrbot_scene() if args.robot == "rrbot" else sim.arm_scene(robot)
+    presets = {"rrbot": sim.rrbot_scene, "ur5": sim.ur5_scene}
+    scene = presets[args.robot]() if args.robot in presets else sim.arm_scene(robot)
     log = sim.run(
         scene, trajectory, control_rate_hz=args.control_rate_hz, controller=args.controller
     )
@@ -134,6 +135,7 @@ def write_frames(images: list[Any], folder: Path | None, stage: StagedFiles) -> 
         return
     from trajkit.sim.render import write_png
 
+    # Staged last, after every other output, so a failure before leaves no folder.
     folder.mkdir(parents=True, exist_ok=True)
     for index, image in enumerate(images):
         write_png(image, stage.path(folder / f"frame_{index}.png"))

@@ -408,17 +408,25 @@ def tracking(
     if not isinstance(log, ArmLog):
         raise InvalidInputError(f"log must be a trajkit.sim.ArmLog, got {type(log).__name__}")
     positive_scalar("width", width)
-    scale, unit = (180.0 / np.pi, "deg") if degrees else (1.0, "rad")
     figure = Figure(figsize=(width, 7.2), layout="constrained")
     axes = figure.subplots(3, 1, sharex=True)
+    units: set[str] = set()
+    efforts: set[str] = set()
     for j, name in enumerate(log.joint_names):
         color = f"C{j % 10}"
+        # Angles in degrees (or radians), slides in metres; torques or forces.
+        scale, unit = (180.0 / np.pi if degrees else 1.0, "deg" if degrees else "rad")
+        if not log.revolute[j]:
+            scale, unit = 1.0, "m"
+        units.add(unit)
+        efforts.add("N·m" if log.revolute[j] else "N")
         axes[0].plot(log.t, log.desired[:, j] * scale, "--", color=color, label=f"{name} desired")
         axes[0].plot(log.t, log.actual[:, j] * scale, color=color, label=f"{name} actual")
         axes[1].plot(log.t, log.error[:, j] * scale, color=color, label=name)
         axes[2].plot(log.t, log.efforts[:, j], color=color, label=name)
-    for ax, label in zip(axes, (f"position [{unit}]", f"error q − q_d [{unit}]", "effort [N·m]"),
-                         strict=True):  # fmt: skip
+    unit, effort = " | ".join(sorted(units)), " | ".join(sorted(efforts))
+    for ax, label in zip(axes, (f"position [{unit}]", f"error q − q_d [{unit}]",
+                                f"effort [{effort}]"), strict=True):  # fmt: skip
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best", fontsize="small", ncols=2)

@@ -22,8 +22,8 @@ from matplotlib.figure import Figure
 
 import trajkit as tk
 from trajkit import sim
-from trajkit.errors import InvalidInputError
-from trajkit.kinematics import UR5
+from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.kinematics import UR5, DHRow, SerialChain
 from trajkit.mobile import constant_twist
 from trajkit.sim.engine import compile_scene
 
@@ -212,7 +212,7 @@ def test_ur5_servo_settles_where_its_torque_balances_gravity():
     log = sim.run(scene, plan, duration=15.0)
     assert np.abs(log.actual_velocity[-1]).max() <= 1e-9  # measured 5e-14 rad/s: settled
     # Gravity at the sagged pose, from a model with the same links and no compensation.
-    model = compile_scene(scene.mjcf(gravity_compensation=False))
+    model = compile_scene(scene.mjcf())
     data = mujoco.MjData(model)
     data.qpos[:] = log.actual[-1]
     mujoco.mj_inverse(model, data)
@@ -291,11 +291,11 @@ def test_arm_controller_refuses_unknown_controllers(controller, match):
     ("controller", "match"),
     [
         (sim.PositionServo(kp=[1.0, 2.0, 3.0]), r"kp must be one number or one per joint \(2\)"),
-        (sim.PositionServo(kp=-1.0), r"kp must be .* each >= 0 N·m/rad, got -1.0"),
-        (sim.PositionServo(kv=[10.0, -1.0]), r"kv must be .* each >= 0"),
+        (sim.PositionServo(kp=-1.0), r"kp must be >= 0 N·m/rad, got \[-1.0, -1.0\]"),
+        (sim.PositionServo(kv=[10.0, -1.0]), r"kv must be >= 0 N·m·s/rad, got \[10.0, -1.0\]"),
         (sim.PositionServo(kp=np.nan), r"kp must be finite"),
         (sim.VelocityServo(kv=[[1.0, 2.0]]), r"kv must be one number or one per joint \(2\)"),
-        (sim.PDFeedforward(kp=-5.0), r"kp must be .* each >= 0"),
+        (sim.PDFeedforward(kp=-5.0), r"kp must be >= 0 N·m/rad"),
         (sim.ComputedTorque(frequency=0.0), r"frequency must be > 0"),
         (sim.ComputedTorque(frequency=-30.0), r"frequency must be > 0"),
         (sim.ComputedTorque(damping_ratio=-1.0), r"damping_ratio must be > 0"),
@@ -446,10 +446,12 @@ def test_to_csv_round_trips_at_full_precision(logs, tmp_path):
     header = path.read_text(encoding="utf-8").splitlines()[0].split(",")
     assert header[:3] == ["t [s]", "q1_desired [rad]", "q2_desired [rad]"]
     assert header[-1] == "q2_effort [N·m]"
-    assert len(header) == 1 + 5 * 2
+    assert "q1_desired_acceleration [rad/s^2]" in header
+    assert len(header) == 1 + 6 * 2
     table = np.loadtxt(path, skiprows=1, delimiter=",", encoding="utf-8")
     expected = np.column_stack([log.t, log.desired, log.actual, log.desired_velocity,
-                                log.actual_velocity, log.efforts])  # fmt: skip
+                                log.actual_velocity, log.desired_acceleration,
+                                log.efforts])  # fmt: skip
     np.testing.assert_array_equal(table, expected)
 
 
@@ -471,3 +473,67 @@ def test_tracking_plot_refuses_a_mobile_log():
     log = sim.run(sim.jackal_scene(), constant_twist(0.1, 0.1, 1.0), control_rate_hz=10)
     with pytest.raises(InvalidInputError, match=r"trajkit\.sim\.ArmLog, got PhysicsLog"):
         tk.plot.tracking(log)
+
+
+# Divergence, joint ranges, plan time, slide joints ---------------------------------------
+@pytest.mark.parametrize(
+    ("controller", "rate_hz"),
+    [("computed_torque", 20.0), (sim.PositionServo(kp=1e9, kv=1e3), 1000.0)],
+)
+def test_a_diverging_simulation_raises_and_writes_no_mujoco_log(
+    controller, rate_hz, tmp_path, monkeypatch
+):
+    monkeypatch.chdir(tmp_path)  # MuJoCo's own handler would append to MUJOCO_LOG.TXT here
+    with pytest.raises(InfeasibleError, match=r"the simulation diverged \(MuJoCo: Nan, Inf or "
+                       r"huge value in QACC.*\); the .* is unstable on this arm"):  # fmt: skip
+        sim.run(sim.rrbot_scene(), seed_000(), controller=controller, control_rate_hz=rate_hz)
+    assert list(tmp_path.iterdir()) == []
+    # MuJoCo's own warning handler is back afterwards.
+    assert mujoco.get_mju_user_warning() is None
+
+
+def test_computed_torque_is_stable_at_a_moderate_rate():
+    log = sim.run(sim.rrbot_scene(), seed_000(), controller="computed_torque",
+                  control_rate_hz=50.0)  # fmt: skip
+    assert np.degrees(log.max_error).max() < 0.05  # measured 0.018 deg
+
+
+def test_a_plan_outside_the_joint_ranges_is_refused():
+    robot = SerialChain.from_dh(
+        [DHRow(a=0.3, lower=-1.0, upper=1.0), DHRow(a=0.3, lower=-1.0, upper=1.0)]
+    )
+    with pytest.raises(
+        InvalidInputError, match=r"takes joint q1 to 2, outside its range \[-1, 1\]"
+    ):
+        sim.run(sim.arm_scene(robot), tk.cubic([0.5, 0.0], [2.0, 0.5], 1.0))
+    inside = sim.run(sim.arm_scene(robot), tk.cubic([0.5, 0.0], [1.0, -1.0], 1.0))
+    assert inside.t.size == 1001
+
+
+def test_log_times_are_the_plans_own():
+    plan = tk.cubic([0.0, 0.0], [0.3, -0.2], 3.0)
+    later = tk.Trajectory(plan.breakpoints + 5.0, plan.coefficients)
+    log = sim.run(sim.rrbot_scene(), later, controller="computed_torque")
+    assert log.t[0] == 5.0 and log.t[-1] == pytest.approx(8.0, rel=ROUNDING)
+    np.testing.assert_array_equal(log.desired, later.evaluate(log.t))
+    assert "3001 control steps over 3 s" in log.summary()
+
+
+def test_slide_joints_are_reported_in_metres_and_newtons(tmp_path):
+    robot = SerialChain.from_dh(
+        [DHRow(a=0.3), DHRow(d=0.1, kind="prismatic", lower=-0.2, upper=0.2)],
+        names=["turn", "slide"],
+    )
+    log = sim.run(sim.arm_scene(robot), tk.cubic([0.0, 0.0], [0.5, 0.1], 1.0),
+                  controller="computed_torque")  # fmt: skip
+    np.testing.assert_array_equal(log.revolute, [True, False])
+    lines = log.summary().splitlines()
+    assert " deg, " in lines[1] and "N·m" in lines[1]
+    assert " mm, " in lines[2] and lines[2].endswith(" N")
+    header = log.to_csv(tmp_path / "log.csv").read_text(encoding="utf-8").splitlines()[0]
+    for column in ("slide_desired [m]", "slide_actual_velocity [m/s]", "slide_effort [N]",
+                   "turn_effort [N·m]", "slide_desired_acceleration [m/s^2]"):  # fmt: skip
+        assert column in header.split(",")
+    figure = tk.plot.tracking(log)
+    assert figure.get_axes()[0].get_ylabel() == "position [deg | m]"
+    assert figure.get_axes()[2].get_ylabel() == "effort [N | N·m]"

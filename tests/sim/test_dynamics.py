@@ -53,10 +53,14 @@ CONTROLLERS = {
 def setting(chain: str, controller: str, compensate: bool):
     robot = CHAINS[chain]()
     scene = sim.arm_scene(
-        robot, damping=0.3, armature=0.02, link_mass=np.linspace(0.5, 2, robot.ndof)
+        robot,
+        damping=0.3,
+        armature=0.02,
+        link_mass=np.linspace(0.5, 2, robot.ndof),
+        gravity_compensation=compensate,
     )
-    actuators = CONTROLLERS[controller].actuators(robot.ndof)
-    return robot, compile_scene(scene.mjcf(actuators, gravity_compensation=compensate))
+    # Torque controllers never get gravity compensation; the position servo does here.
+    return robot, compile_scene(scene.mjcf(CONTROLLERS[controller]))
 
 
 @pytest.mark.parametrize("chain", list(CHAINS))
@@ -88,7 +92,7 @@ def test_static_torque_is_each_links_weight_on_its_lever():
     # (lever 0), then 0.9 m across (lever 0.45 m); link 2 runs 0.95 m from the elbow at
     # 0.9 m. Each link's 1 kg is spread evenly along its length.
     robot = RRBot()
-    model = compile_scene(sim.rrbot_scene().mjcf(gravity_compensation=False))
+    model = compile_scene(sim.rrbot_scene(gravity_compensation=False).mjcf())
     q = np.array([[np.pi / 2, 0.0]])
     torque = inverse_dynamics(robot, model, q, np.zeros((1, 2)), np.zeros((1, 2)))
     g = 9.81

@@ -8,6 +8,7 @@ The rollout is checked against a plain Python loop of ``mj_step`` on a fresh
 from __future__ import annotations
 
 import functools
+import os
 import re
 import sys
 from pathlib import Path as FilePath
@@ -121,7 +122,7 @@ def test_control_grid_refuses_bad_rates(rate):
 
 
 def test_control_grid_refuses_runs_over_1e8_steps():
-    with pytest.raises(InvalidInputError, match="at most 1e8"):
+    with pytest.raises(InvalidInputError, match=r"at most 1e\+08"):
         control_grid(0.001, 1.0e6, 1000.0)
 
 
@@ -130,7 +131,7 @@ def test_control_grid_refuses_runs_over_1e8_steps():
 def velocity_servo_model():
     """RRBot with VelocityServo's actuators: position and velocity loops, one activation each."""
     scene = sim.rrbot_scene()
-    return compile_scene(scene.mjcf(sim.VelocityServo().actuators(scene.ndof)))
+    return compile_scene(scene.mjcf(sim.VelocityServo()))
 
 
 def python_loop(model, qpos, qvel, act, controls, final):
@@ -169,7 +170,7 @@ def test_open_loop_rows_are_the_states_before_each_step(qpos, qvel, act, steps, 
     data = mujoco.MjData(model)
     data.qpos[:], data.qvel[:], data.act[:] = qpos, qvel, act
     mujoco.mj_forward(model, data)
-    sensors = open_loop(model, data, controls, final)
+    sensors = open_loop(model, data, controls, 1, final)
 
     assert sensors.shape == (steps + 1, model.nsensordata)
     np.testing.assert_array_equal(sensors, expected)
@@ -182,3 +183,56 @@ def test_open_loop_rows_are_the_states_before_each_step(qpos, qvel, act, steps, 
     np.testing.assert_array_equal(data.act, reference.act)
     np.testing.assert_array_equal(data.ctrl, final)
     assert data.time == reference.time
+
+
+def test_open_loop_holds_each_control_for_its_substeps_in_chunks():
+    # 3 substeps a period, and more steps than one rollout chunk (50,000): the rows at
+    # period starts equal a plain per-step loop's, bit for bit.
+    model = velocity_servo_model()
+    rng = np.random.default_rng(7)
+    periods, substeps = 17_000, 3
+    controls = rng.uniform(-1.0, 1.0, (periods, model.nu))
+    final = rng.uniform(-1.0, 1.0, model.nu)
+    expected, _, _ = python_loop(model, np.zeros(2), np.zeros(2), np.zeros(2),
+                                 np.repeat(controls, substeps, axis=0), final)  # fmt: skip
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    rows = open_loop(model, data, controls, substeps, final)
+    assert rows.shape == (periods + 1, model.nsensordata)
+    np.testing.assert_array_equal(rows, expected[::substeps])
+
+
+def test_a_broken_opengl_setting_is_a_clear_error_and_simulation_needs_none(tmp_path):
+    import subprocess
+
+    script = (
+        "import trajkit as tk\n"
+        "from trajkit import sim\n"
+        "try:\n"
+        "    sim.run(sim.rrbot_scene(), tk.cubic([0, 0], [0.1, 0.1], 0.1))\n"
+        "except sim.SimulationUnavailableError as error:\n"
+        "    print('unavailable:', error)\n"
+    )
+    env = {**os.environ, "MUJOCO_GL": "bogus"}
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                            env=env, timeout=120, cwd=tmp_path)  # fmt: skip
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert "unavailable: MuJoCo failed to import with MUJOCO_GL='bogus'" in result.stdout
+    assert "set MUJOCO_GL=egl, osmesa or disable (simulation needs no OpenGL)" in result.stdout
+    env["MUJOCO_GL"] = "disable"
+    script = "import trajkit as tk\nfrom trajkit import sim\n"
+    script += "print(sim.run(sim.rrbot_scene(), tk.cubic([0, 0], [0.1, 0.1], 0.1)).t.size)\n"
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                            env=env, timeout=120, cwd=tmp_path)  # fmt: skip
+    assert result.stdout.strip() == "101", result.stderr[-2000:]
+
+
+@pytest.mark.parametrize("platform", ["darwin", "win32"])
+def test_the_opengl_backend_is_chosen_on_linux_only(platform, monkeypatch):
+    from trajkit.sim.engine import choose_gl_backend
+
+    monkeypatch.delenv("MUJOCO_GL", raising=False)
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.setattr(sys, "platform", platform)
+    choose_gl_backend()
+    assert "MUJOCO_GL" not in os.environ

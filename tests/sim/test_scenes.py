@@ -134,14 +134,16 @@ def test_dh_prismatic_range_and_unlimited_revolutes():
     np.testing.assert_array_equal(model.jnt_range[:2], [[-2.0, 2.5], [-0.2, 0.3]])
 
 
-def test_one_sided_or_no_limits_give_no_range():
+def test_one_sided_limits_keep_their_side_and_no_limits_give_no_range():
     joints = [
         Joint("free", "revolute", origin=translation(0, 0, 0.1)),
         Joint("floor_only", "revolute", origin=translation(0.3, 0, 0), lower=-1.0),
         Joint("ceiling_only", "revolute", origin=translation(0.3, 0, 0), upper=1.0),
     ]
     model = compile_scene(sim.arm_scene(SerialChain(joints, tool=translation(0.2, 0, 0))).mjcf())
-    np.testing.assert_array_equal(model.jnt_limited, [False, False, False])
+    np.testing.assert_array_equal(model.jnt_limited, [False, True, True])
+    # The open side is far beyond any motion (1e6 rad).
+    np.testing.assert_array_equal(model.jnt_range[1:], [[-1.0, 1e6], [-1e6, 1.0]])
     _, rrbot = chain_and_model("RRBot")
     assert not rrbot.jnt_limited.any()
 
@@ -183,9 +185,11 @@ def test_gravity_compensation_is_in_the_model(compensate):
     links = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"link{j}") for j in (1, 2)]
     np.testing.assert_array_equal(model.body_gravcomp[links], [float(compensate)] * 2)
     np.testing.assert_array_equal(model.jnt_actgravcomp, [compensate] * 2)
-    # The mjcf() argument overrides the scene's setting.
-    other = compile_scene(scene.mjcf(gravity_compensation=not compensate))
-    np.testing.assert_array_equal(other.body_gravcomp[links], [float(not compensate)] * 2)
+    # Torque controllers compute gravity themselves: their models never compensate it.
+    for controller in ("pd_feedforward", "computed_torque"):
+        torque_model = scene.compiled(controller)
+        np.testing.assert_array_equal(torque_model.body_gravcomp[links], [0.0, 0.0])
+    assert scene.compiled("velocity") is scene.compiled(sim.VelocityServo())  # cached
 
 
 def test_default_link_radius_is_three_percent_of_reach():
@@ -376,3 +380,53 @@ def test_jackal_scene_overrides():
     scene = sim.jackal_scene(wheel_gain=20.0, timestep=0.002)
     assert (scene.wheel_gain, scene.timestep) == (20.0, 0.002)
     assert scene.model == jackal()
+
+
+def test_scene_arrays_are_read_only_so_compiled_models_stay_true():
+    scene = sim.rrbot_scene()
+    for name in ("link_mass", "damping", "armature"):
+        with pytest.raises(ValueError, match="read-only"):
+            getattr(scene, name)[:] = 5.0
+    given = np.array([1.0, 2.0])
+    scene = sim.rrbot_scene(link_mass=given)
+    given[:] = 9.0  # the caller's array is copied, not shared
+    np.testing.assert_array_equal(scene.link_mass, [1.0, 2.0])
+
+
+@pytest.mark.parametrize("value", ["no", 1, None])
+def test_gravity_compensation_must_be_a_bool(value):
+    with pytest.raises(InvalidInputError, match="gravity_compensation must be True or False"):
+        sim.rrbot_scene(gravity_compensation=value)
+
+
+def test_wheels_heavier_than_the_robot_are_refused():
+    with pytest.raises(InvalidInputError, match="two wheels of 100 kg leave no chassis in a 17 kg"):
+        sim.jackal_scene(wheel_mass=100.0)
+
+
+def test_ur5_scene_has_universal_robots_link_masses():
+    model = sim.ur5_scene().compiled()
+    links = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"link{j}") for j in range(1, 7)]
+    np.testing.assert_allclose(model.body_mass[links], [3.7, 8.393, 2.33, 1.219, 1.219, 0.1879],
+                               rtol=1e-12)  # fmt: skip
+
+
+def test_pedestal_stands_straight_below_an_offset_base():
+    base = np.eye(4)
+    base[:3, 3] = [1.0, 0.5, 0.5]
+    robot = SerialChain.from_dh([DHRow(a=0.3)], base=base)
+    model = sim.arm_scene(robot).compiled()
+    mujoco.mj_forward(model, data := mujoco.MjData(model))
+    pedestal = next(
+        g for g in range(model.ngeom) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_CYLINDER
+    )
+    np.testing.assert_allclose(data.geom_xpos[pedestal], [1.0, 0.5, 0.25], atol=1e-12)
+
+
+def test_compiled_models_are_cached_and_bounded():
+    scene = sim.rrbot_scene()
+    first = scene.compiled(sim.PositionServo(kp=1.0))
+    assert scene.compiled(sim.PositionServo(kp=1.0)) is first
+    for kp in range(2, 12):
+        scene.compiled(sim.PositionServo(kp=float(kp)))
+    assert len(scene._compiled) <= 8

@@ -123,8 +123,11 @@ def test_wheel_servos_hold_their_speeds(twist_log):
     steady = log.t >= 0.5
     gap = np.abs(log.measured_wheel_speeds[steady] - log.wheel_speeds[steady]).max()
     assert gap <= 3e-5  # rad/s; measured 1.5e-5
-    assert log.peak_wheel_torque <= 0.6  # N·m, the start; measured 0.41
+    # The peak is the start: from rest, the right wheel's servo sees its whole commanded
+    # speed as error, kv (10 N·m·s/rad) times 1.522 rad/s.
+    assert log.peak_wheel_torque == pytest.approx(10.0 * log.wheel_speeds[0, 1], rel=1e-12)
     assert log.peak_wheel_torque == np.abs(log.wheel_torques).max()
+    assert np.abs(log.wheel_torques[steady]).max() <= 0.5  # N·m rolling on; measured 0.37
 
 
 def test_summary_adds_the_physics_metrics(twist_log):
@@ -219,8 +222,8 @@ class NoLaw:
         (None, {"noise": (0.01, 0.01)}, r"unknown option\(s\) for a mobile run: \['noise'\]"),
         (None, {"seed": 1, "dt": 0.1}, r"unknown option\(s\) for a mobile run: \['dt', 'seed'\]"),
         (None, {"feedback": "gps"}, r"feedback must be 'ground_truth' or 'odometry', got 'gps'"),
-        (None, {"controller": NoLaw()}, r"controller must have a law\(plan, start\) method"),
-        (None, {"controller": "kanayama"}, r"controller must have a law\(plan, start\) method"),
+        (None, {"controller": NoLaw()}, r"controller must be a name or have a law\(plan, start\)"),
+        (None, {"controller": "kanaiama"}, r"controller must be one of feedforward, kanayama"),
         (None, {"control_rate_hz": 30.0}, r"whole number of physics steps"),
         (None, {"control_rate_hz": 3000.0}, r"whole number of physics steps"),
         (None, {"control_rate_hz": -50.0}, r"control_rate_hz must be > 0"),
@@ -284,3 +287,11 @@ def test_chain_arcs_is_arc_pose_in_turn(start, arcs):
     assert np.abs(poses[:, :2] - expected[:, :2]).max() <= ARC_CHAIN * scale
     heading_scale = max(1.0, abs(start[2]) + np.abs(turns).sum())
     assert np.abs(poses[:, 2] - expected[:, 2]).max() <= ARC_CHAIN * heading_scale
+
+
+def test_mobile_controllers_by_name():
+    plan = constant_twist(0.1, 0.2, 2.0)
+    by_name = sim.run(sim.jackal_scene(), plan, controller="kanayama")
+    by_object = sim.run(sim.jackal_scene(), plan, controller=Kanayama())
+    assert by_name.controller == "kanayama"
+    np.testing.assert_array_equal(by_name.actual, by_object.actual)

@@ -13,8 +13,8 @@ Examples
 >>> log.max_error  # rad, per joint                                        # doctest: +SKIP
 """
 
-from trajkit.sim.arm import (
-    ArmLog,
+from trajkit.sim.arm import ArmLog
+from trajkit.sim.controllers import (
     ComputedTorque,
     PDFeedforward,
     PositionServo,
@@ -24,7 +24,14 @@ from trajkit.sim.arm import (
 from trajkit.sim.engine import SimulationUnavailableError, choose_gl_backend, mujoco_available
 from trajkit.sim.render import frames, render_frames
 from trajkit.sim.run import DEFAULT_RATES_HZ, run
-from trajkit.sim.scenes import ArmScene, MobileScene, arm_scene, jackal_scene, rrbot_scene
+from trajkit.sim.scenes import (
+    ArmScene,
+    MobileScene,
+    arm_scene,
+    jackal_scene,
+    rrbot_scene,
+    ur5_scene,
+)
 from trajkit.sim.wheeled import PhysicsLog
 
 # MuJoCo fixes its OpenGL backend when first imported: choose one that renders
@@ -50,4 +57,5 @@ __all__ = [
     "render_frames",
     "rrbot_scene",
     "run",
+    "ur5_scene",
 ]

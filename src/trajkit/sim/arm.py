@@ -1,22 +1,9 @@
-"""Arm trajectories executed in MuJoCo: joint servos or torque control, desired against actual.
+"""Arm trajectories executed in MuJoCo, desired against actual.
 
-Four ways to drive the joints, as real arm controllers do:
-
-* :class:`PositionServo` — a PD servo on position (Gazebo's
-  ``effort_controllers/JointPositionController``); the setpoint is the plan's
-  position, held over each control period.
-* :class:`VelocityServo` — the plan's velocity is the command; the drive
-  integrates it into a position setpoint (``kp``) and damps the velocity error
-  (``kv``), as a velocity interface over a position loop does.
-* :class:`PDFeedforward` — the torque of the inverse dynamics along the plan
-  (from its accelerations, for all control times at once) plus PD on the
-  position and velocity errors.
-* :class:`ComputedTorque` — inverse dynamics at the *measured* state with the
-  plan's acceleration corrected by the errors: ``τ = M(q)(q̈_d + K_d ė + K_p e) + h(q, q̇)``.
-
-The first three are open-loop in their inputs (the servo acts inside MuJoCo every
-physics step), so a whole run is one call into MuJoCo's ``rollout``; computed
-torque needs the measured state and steps once per control period.
+The servos and PD + feed-forward are open-loop in their inputs (the servo acts
+inside MuJoCo every physics step), so a whole run is a few calls into MuJoCo's
+``rollout``; computed torque needs the measured state and steps once per control
+period. Controllers are in :mod:`trajkit.sim.controllers`.
 """
 
 from __future__ import annotations
@@ -27,158 +14,24 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
-from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit._validation import FloatArray, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
+from trajkit.sim.controllers import (
+    ArmController,
+    ComputedTorque,
+    VelocityServo,
+    arm_controller,
+    is_torque_control,
+)
 from trajkit.sim.dynamics import inverse_dynamics
-from trajkit.sim.engine import control_grid, mujoco_module, open_loop
-from trajkit.sim.mjcf import Actuator
+from trajkit.sim.engine import control_grid, mujoco_module, open_loop, stability_watch
 from trajkit.sim.scenes import ArmScene
 from trajkit.trajectory import Trajectory
 
-__all__ = [
-    "ArmLog",
-    "ComputedTorque",
-    "PDFeedforward",
-    "PositionServo",
-    "VelocityServo",
-    "arm_controller",
-    "model_for",
-    "run_arm",
-]
-
-
-def _gains(name: str, value: Any, ndof: int, unit: str) -> FloatArray:
-    gains = finite_array(name, value, unit=unit)
-    gains = np.full(ndof, float(gains)) if gains.ndim == 0 else gains
-    if gains.shape != (ndof,) or np.any(gains < 0.0):
-        raise InvalidInputError(
-            f"{name} must be one number or one per joint ({ndof}), each >= 0 {unit}, got "
-            f"{np.asarray(value).tolist()}"
-        )
-    return gains
-
-
-@dataclass(frozen=True)
-class PositionServo:
-    """PD position servo: ``τ = kp (q_d − q) − kv q̇`` (N·m/rad, N·m·s/rad).
-
-    The defaults are the gains of Gazebo's RRBot position controllers (p 100, d 10).
-    """
-
-    kp: Any = 100.0
-    kv: Any = 10.0
-    name: str = "position servo"
-
-    def actuators(self, ndof: int) -> list[Actuator]:
-        """One MuJoCo position actuator per joint."""
-        return [
-            Actuator(
-                "position",
-                _gains("kp", self.kp, ndof, "N·m/rad"),
-                _gains("kv", self.kv, ndof, "N·m·s/rad"),
-            )
-        ]
-
-    def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:
-        """The control columns for desired states (one row per control time)."""
-        return q
-
-
-@dataclass(frozen=True)
-class VelocityServo:
-    """Velocity command ``u = q̇_d``: ``τ = kp (∫u dt − q) + kv (u − q̇)``."""
-
-    kp: Any = 100.0
-    kv: Any = 10.0
-    name: str = "velocity servo"
-
-    def actuators(self, ndof: int) -> list[Actuator]:
-        """An integrated-velocity (position loop) and a velocity actuator per joint."""
-        return [
-            Actuator("intvelocity", kp=_gains("kp", self.kp, ndof, "N·m/rad")),
-            Actuator("velocity", kv=_gains("kv", self.kv, ndof, "N·m·s/rad")),
-        ]
-
-    def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:  # noqa: D102
-        return np.concatenate([qd, qd], axis=1)
-
-
-@dataclass(frozen=True)
-class PDFeedforward:
-    """Inverse-dynamics feed-forward plus PD: ``τ = τ_ID(q_d, q̇_d, q̈_d) + kp e + kv ė``."""
-
-    kp: Any = 100.0
-    kv: Any = 10.0
-    name: str = "PD + feed-forward"
-
-    def actuators(self, ndof: int) -> list[Actuator]:
-        """A motor, a position and a velocity actuator per joint."""
-        return [
-            Actuator("motor"),
-            Actuator("position", kp=_gains("kp", self.kp, ndof, "N·m/rad")),
-            Actuator("velocity", kv=_gains("kv", self.kv, ndof, "N·m·s/rad")),
-        ]
-
-    def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:  # noqa: D102
-        return np.concatenate([torque, q, qd], axis=1)
-
-
-@dataclass(frozen=True)
-class ComputedTorque:
-    """Computed torque with error dynamics ``ë + 2ζω ė + ω² e = 0``.
-
-    Parameters
-    ----------
-    frequency : float
-        Natural frequency ``ω`` of the error dynamics (rad/s).
-    damping_ratio : float
-        ``ζ``; 1 is critically damped.
-    """
-
-    frequency: float = 30.0
-    damping_ratio: float = 1.0
-    name: str = "computed torque"
-
-    def actuators(self, ndof: int) -> list[Actuator]:
-        """One motor per joint."""
-        return [Actuator("motor")]
-
-    def gains(self) -> tuple[float, float]:
-        """``(ω², 2ζω)``."""
-        omega = positive_scalar("frequency", self.frequency, unit="rad/s")
-        zeta = positive_scalar("damping_ratio", self.damping_ratio)
-        return omega**2, 2.0 * zeta * omega
-
-
-ArmController = PositionServo | VelocityServo | PDFeedforward | ComputedTorque
-
-_NAMED: dict[str, type] = {
-    "position": PositionServo,
-    "velocity": VelocityServo,
-    "pd_feedforward": PDFeedforward,
-    "computed_torque": ComputedTorque,
-}
-
-
-def arm_controller(controller: str | ArmController) -> ArmController:
-    """A controller object from itself or its name, with default gains.
-
-    Names: ``"position"``, ``"velocity"``, ``"pd_feedforward"``, ``"computed_torque"``.
-    """
-    if isinstance(controller, str):
-        if controller not in _NAMED:
-            raise InvalidInputError(
-                f"unknown arm controller {controller!r}; choose one of {sorted(_NAMED)}"
-            )
-        return _NAMED[controller]()
-    if not isinstance(controller, (PositionServo, VelocityServo, PDFeedforward, ComputedTorque)):
-        raise InvalidInputError(
-            "controller must be a name or a PositionServo, VelocityServo, PDFeedforward or "
-            f"ComputedTorque, got {type(controller).__name__}"
-        )
-    return controller
+__all__ = ["ArmLog", "run_arm"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -188,18 +41,23 @@ class ArmLog:
     Attributes
     ----------
     t : ndarray, shape (n,)
-        Control times (s).
+        Control times, in the plan's time (s).
     desired, desired_velocity, desired_acceleration : ndarray, shape (n, ndof)
-        The plan's state at those times (rad, rad/s, rad/s²).
+        The plan's state at those times (rad, rad/s, rad/s²; m, m/s, m/s² for a
+        prismatic joint); past the plan's end, at rest at its end position.
     actual, actual_velocity : ndarray, shape (n, ndof)
         The simulated joints' positions and velocities.
     commands : ndarray, shape (n, ncontrol)
         What was sent to the actuators, as MuJoCo's ``ctrl`` (per actuator kind,
         one column per joint: setpoints in rad or rad/s, torques in N·m).
     efforts : ndarray, shape (n, ndof)
-        Total actuator torque on every joint during the period after each time (N·m).
+        Total actuator torque (N·m, or force in N) on every joint at each control
+        time, as the new command takes effect: for a servo, the largest of its
+        period.
     joint_names : tuple of str
     controller : str
+    revolute : ndarray of bool, shape (ndof,)
+        Which joints turn (angles in rad, torques in N·m); the others slide (m, N).
     """
 
     t: FloatArray
@@ -212,6 +70,7 @@ class ArmLog:
     efforts: FloatArray
     joint_names: tuple[str, ...]
     controller: str
+    revolute: NDArray[np.bool_]
 
     @property
     def error(self) -> FloatArray:
@@ -238,15 +97,23 @@ class ArmLog:
         """Largest actuator torque magnitude per joint (N·m)."""
         return np.abs(self.efforts).max(axis=0)
 
+    def units(self) -> list[tuple[str, float, str]]:
+        """Per joint: the display unit of positions, its scale from SI, the effort unit."""
+        return [("deg", 180.0 / np.pi, "N·m") if turns else ("mm", 1000.0, "N")
+                for turns in self.revolute]  # fmt: skip
+
     def summary(self) -> str:
         """A line per joint: RMS, maximum and final error, peak effort."""
-        lines = [f"{self.controller}: {self.t.size} control steps over {self.t[-1]:.6g} s"]
-        for j, name in enumerate(self.joint_names):
+        lines = [f"{self.controller}: {self.t.size} control steps over "
+                 f"{self.t[-1] - self.t[0]:.6g} s"]  # fmt: skip
+        for j, (name, (unit, scale, effort)) in enumerate(
+            zip(self.joint_names, self.units(), strict=True)
+        ):
             lines.append(
-                f"  {name}: RMS error {np.degrees(self.rms_error[j]):.3g} deg, max "
-                f"{np.degrees(self.max_error[j]):.3g} deg, final "
-                f"{np.degrees(self.final_error[j]):.3g} deg, peak effort "
-                f"{self.peak_effort[j]:.3g} N·m"
+                f"  {name}: RMS error {self.rms_error[j] * scale:.3g} {unit}, max "
+                f"{self.max_error[j] * scale:.3g} {unit}, final "
+                f"{self.final_error[j] * scale:.3g} {unit}, peak effort "
+                f"{self.peak_effort[j]:.3g} {effort}"
             )
         return "\n".join(lines)
 
@@ -254,28 +121,22 @@ class ArmLog:
         """Write every row: time, desired and actual states, efforts (SI units)."""
         header = ["t [s]"]
         columns = [self.t[:, None]]
-        for label, data, unit in (
-            ("desired", self.desired, "rad"),
-            ("actual", self.actual, "rad"),
-            ("desired_velocity", self.desired_velocity, "rad/s"),
-            ("actual_velocity", self.actual_velocity, "rad/s"),
-            ("effort", self.efforts, "N·m"),
+        linear = ["rad" if turns else "m" for turns in self.revolute]
+        for label, data, suffix in (
+            ("desired", self.desired, ""),
+            ("actual", self.actual, ""),
+            ("desired_velocity", self.desired_velocity, "/s"),
+            ("actual_velocity", self.actual_velocity, "/s"),
+            ("desired_acceleration", self.desired_acceleration, "/s^2"),
         ):
-            header += [f"{name}_{label} [{unit}]" for name in self.joint_names]
+            header += [f"{name}_{label} [{unit}{suffix}]"
+                       for name, unit in zip(self.joint_names, linear, strict=True)]  # fmt: skip
             columns.append(data)
+        efforts = ["N·m" if turns else "N" for turns in self.revolute]
+        header += [f"{name}_effort [{unit}]"
+                   for name, unit in zip(self.joint_names, efforts, strict=True)]  # fmt: skip
+        columns.append(self.efforts)
         return write_csv(path, header, np.concatenate(columns, axis=1))
-
-
-def model_for(scene: ArmScene, controller: str | ArmController) -> Any:
-    """The scene's MuJoCo model with ``controller``'s actuators (compiled once).
-
-    Torque controllers compute gravity in their own inverse dynamics, so their
-    model never adds the servo's gravity compensation.
-    """
-    control = arm_controller(controller)
-    torque_control = isinstance(control, (PDFeedforward, ComputedTorque))
-    return scene.compiled(control.actuators(scene.ndof),
-                          scene.gravity_compensation and not torque_control)  # fmt: skip
 
 
 def run_arm(
@@ -302,31 +163,38 @@ def run_arm(
     if end <= plan.start_time:
         raise InvalidInputError("the plan has no duration to simulate; pass duration=")
     times, substeps = control_grid(scene.timestep, end - plan.start_time, control_rate_hz)
+    _check_ranges(scene, plan)
     ndof = scene.ndof
-    torque_control = isinstance(control, (PDFeedforward, ComputedTorque))
-    model = model_for(scene, control)
+    torque_control = is_torque_control(control)
+    model = scene.compiled(control)
     mujoco = mujoco_module()
     data = mujoco.MjData(model)
-    desired = [plan.evaluate(plan.start_time + times, order) for order in (0, 1, 2)]
+    clock = plan.start_time + times
+    desired = [plan.evaluate(clock, order) for order in (0, 1, 2)]
     # Past the plan's end the robot is asked to stand still at the end position.
-    after = plan.start_time + times > plan.end_time
+    after = clock > plan.end_time
     desired[1][after] = desired[2][after] = 0.0
     data.qpos[:], data.qvel[:] = desired[0][0], desired[1][0]
     if isinstance(control, VelocityServo):
         data.act[:] = desired[0][0]  # the integrated setpoint starts where the joints are
     mujoco.mj_forward(model, data)
-    if isinstance(control, ComputedTorque):
-        actual, velocity, commands, efforts = _computed_torque(
-            model, data, control, desired, substeps
-        )
-    else:
-        torque = inverse_dynamics(scene.robot, model, *desired) if torque_control else None
-        commands = control.inputs(desired[0], desired[1], torque)
-        sensors = open_loop(model, data, np.repeat(commands[:-1], substeps, axis=0), commands[-1])
-        rows = sensors[::substeps]
-        actual, velocity, efforts = rows[:, :ndof], rows[:, ndof : 2 * ndof], rows[:, 2 * ndof :]
+    advice = (
+        f"the {control.name} at {control_rate_hz:g} Hz is unstable on this arm: lower its "
+        "gains or raise the control rate"
+    )
+    with stability_watch(data, advice):
+        if isinstance(control, ComputedTorque):
+            actual, velocity, commands, efforts = _computed_torque(
+                model, data, control, desired, substeps
+            )
+        else:
+            torque = inverse_dynamics(scene.robot, model, *desired) if torque_control else None
+            commands = control.inputs(desired[0], desired[1], torque)
+            rows = open_loop(model, data, commands[:-1], substeps, commands[-1])
+            actual, velocity = rows[:, :ndof], rows[:, ndof : 2 * ndof]
+            efforts = rows[:, 2 * ndof :]
     return ArmLog(
-        t=times,
+        t=clock,
         desired=desired[0],
         desired_velocity=desired[1],
         desired_acceleration=desired[2],
@@ -336,7 +204,23 @@ def run_arm(
         efforts=efforts,
         joint_names=tuple(scene.robot.names),
         controller=control.name,
+        revolute=scene.robot.revolute.copy(),
     )
+
+
+def _check_ranges(scene: ArmScene, plan: Trajectory) -> None:
+    """Refuse a plan that leaves the arm's joint ranges (the run would start or end in them)."""
+    extrema = plan.extrema(0)
+    lower, upper = scene.robot.lower, scene.robot.upper
+    slack = 1e-9 * np.maximum(1.0, np.abs(np.stack([lower, upper])))
+    low = extrema.minimum < np.where(np.isfinite(lower), lower - slack[0], -np.inf)
+    high = extrema.maximum > np.where(np.isfinite(upper), upper + slack[1], np.inf)
+    for j in np.flatnonzero(low | high):
+        value = extrema.minimum[j] if low[j] else extrema.maximum[j]
+        raise InvalidInputError(
+            f"the plan takes joint {scene.robot.names[j]} to {value:.6g}, outside its range "
+            f"[{lower[j]:.6g}, {upper[j]:.6g}]"
+        )
 
 
 def _computed_torque(

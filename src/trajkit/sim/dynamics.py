@@ -44,7 +44,8 @@ def inverse_dynamics(
     bodies = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"link{i + 1}") for i in range(n)]
     mass = model.body_mass[bodies]  # (n,)
     com_local = model.body_ipos[bodies]  # (n, 3) in each body's frame
-    principal = Rotation.from_quat(model.body_iquat[bodies], scalar_first=True).as_matrix()
+    # MuJoCo stores quaternions scalar first; scipy takes them scalar last.
+    principal = Rotation.from_quat(model.body_iquat[bodies][:, [1, 2, 3, 0]]).as_matrix()
     inertia_local = principal @ (
         model.body_inertia[bodies][:, :, None] * principal.transpose(0, 2, 1)
     )

@@ -8,13 +8,17 @@ install gives one clear message instead of an ``ImportError`` deep in a call.
 from __future__ import annotations
 
 import os
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from types import ModuleType
 from typing import Any
 
 import numpy as np
 
 from trajkit._validation import FloatArray, positive_scalar
-from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.errors import InfeasibleError, InvalidInputError, TrajkitError
+from trajkit.mobile.trajectory import command_count
 
 __all__ = [
     "SimulationUnavailableError",
@@ -24,6 +28,7 @@ __all__ = [
     "mujoco_available",
     "mujoco_module",
     "open_loop",
+    "stability_watch",
 ]
 
 INSTALL_HINT = 'pip install "trajkit[sim]"'
@@ -34,10 +39,21 @@ class SimulationUnavailableError(TrajkitError):
 
 
 def choose_gl_backend() -> None:
-    """Use EGL for rendering when no display is set and nothing else was chosen."""
-    # MuJoCo picks its OpenGL backend when it is first imported. Without a screen
-    # the default (GLFW) cannot open a context, while EGL renders off-screen.
-    if "MUJOCO_GL" not in os.environ and not os.environ.get("DISPLAY"):
+    """On Linux without a display, have MuJoCo render with EGL unless told otherwise.
+
+    MuJoCo picks its OpenGL backend when it is first imported, from the
+    ``MUJOCO_GL`` environment variable; its default (GLFW) needs a screen. This
+    sets ``MUJOCO_GL=egl`` (and ``PYOPENGL_PLATFORM=egl``) in this process's
+    environment when neither is set, so that importing :mod:`trajkit.sim` first
+    makes off-screen rendering work. Elsewhere (macOS, Windows, a desktop) the
+    environment is left alone.
+    """
+    if (
+        sys.platform.startswith("linux")
+        and "MUJOCO_GL" not in os.environ
+        and not os.environ.get("DISPLAY")
+        and not os.environ.get("WAYLAND_DISPLAY")
+    ):
         os.environ["MUJOCO_GL"] = "egl"
         if "PYOPENGL_PLATFORM" not in os.environ:
             os.environ["PYOPENGL_PLATFORM"] = "egl"
@@ -58,6 +74,12 @@ def mujoco_module() -> ModuleType:
         raise SimulationUnavailableError(
             f"physics simulation needs MuJoCo, which is not installed ({exc}); "
             f"install it with: {INSTALL_HINT}"
+        ) from None
+    except Exception as exc:  # MuJoCo loads its OpenGL backend on import, which can fail
+        reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise SimulationUnavailableError(
+            f"MuJoCo failed to import with MUJOCO_GL={os.environ.get('MUJOCO_GL', '')!r} "
+            f"({reason}); set MUJOCO_GL=egl, osmesa or disable (simulation needs no OpenGL)"
         ) from None
     return mujoco
 
@@ -87,40 +109,50 @@ def compile_scene(xml: str) -> Any:
         raise InvalidInputError(f"MuJoCo cannot compile the scene: {message}") from None
 
 
-def open_loop(model: Any, data: Any, controls: FloatArray, final: FloatArray) -> FloatArray:
-    """Step the physics once per row of ``controls`` from ``data``'s state; sensor rows.
+def open_loop(
+    model: Any, data: Any, controls: FloatArray, substeps: int, final: FloatArray
+) -> FloatArray:
+    """Hold each row of ``controls`` for ``substeps`` physics steps; sensors at period starts.
 
-    Runs inside MuJoCo (its ``rollout`` module, one thread): no Python work per
+    Runs inside MuJoCo (its ``rollout`` module, one thread), in chunks of about
+    50,000 steps so memory stays bounded however long the run: no Python work per
     step. ``data`` is left at the final state, with ``final`` applied.
 
     Parameters
     ----------
-    controls : ndarray, shape (nstep, nu)
+    controls : ndarray, shape (periods, nu)
+    substeps : int
     final : ndarray, shape (nu,)
         The control applied at the final state (for its sensor row).
 
     Returns
     -------
-    ndarray, shape (nstep + 1, nsensordata)
-        Row ``k`` is read at the state before step ``k`` (the last row: after the
-        last step), with control ``k`` applied (``final`` for the last row).
+    ndarray, shape (periods + 1, nsensordata)
+        Row ``k`` is read at the start of period ``k`` with control ``k`` applied
+        (the last row: after the last period, with ``final``).
     """
     mujoco = mujoco_module()
     from mujoco import rollout
 
     spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
     state = np.empty(mujoco.mj_stateSize(model, spec))
-    mujoco.mj_getState(model, data, state, spec)
-    controls = np.ascontiguousarray(controls, dtype=np.float64)
-    # MuJoCo computes sensors in the forward pass at the start of each step, so the
-    # readings a step returns belong to the state it started from.
-    states, sensors = rollout.rollout(
-        model, data, state[None, :], controls[None, :, :], nstep=controls.shape[0]
-    )
-    mujoco.mj_setState(model, data, states[0, -1], spec)
+    chunk = max(1, 50_000 // substeps)
+    rows = []
+    for first in range(0, controls.shape[0], chunk):
+        block = np.repeat(np.ascontiguousarray(controls[first : first + chunk]), substeps, axis=0)
+        mujoco.mj_getState(model, data, state, spec)
+        # MuJoCo computes sensors in the forward pass at the start of each step, so the
+        # readings a step returns belong to the state it started from.
+        states, sensors = rollout.rollout(
+            model, data, state[None, :], block[None, :, :], nstep=block.shape[0],
+            initial_warmstart=np.array(data.qacc_warmstart)[None, :],
+        )  # fmt: skip
+        rows.append(sensors[0, ::substeps])
+        mujoco.mj_setState(model, data, states[0, -1], spec)
     data.ctrl[:] = final
     mujoco.mj_forward(model, data)
-    return np.concatenate([sensors[0], np.array(data.sensordata)[None, :]])
+    rows.append(np.array(data.sensordata)[None, :])
+    return np.concatenate(rows)
 
 
 def control_grid(timestep: float, end: float, rate_hz: float) -> tuple[FloatArray, int]:
@@ -138,12 +170,44 @@ def control_grid(timestep: float, end: float, rate_hz: float) -> tuple[FloatArra
     if substeps < 1 or abs(substeps * timestep - period) > 1e-9 * period:
         raise InvalidInputError(
             f"the control period 1/{rate:g} Hz = {period:g} s must be a whole number of "
-            f"physics steps of {timestep:g} s; choose another rate or the scene's timestep"
+            f"physics steps of {timestep:g} s: rates of {1.0 / timestep:g} Hz divided by a "
+            f"whole number work (or choose the scene's timestep)"
         )
-    count = max(int(np.ceil(end / period - 1e-9)), 1)
+    count = command_count(end, rate)  # the count HeldCommands makes, by the same rule
     if count * substeps > 10**8:
         raise InvalidInputError(
             f"{end:g} s at {timestep:g} s per step is {count * substeps:.3g} physics steps; "
             "at most 1e8 are simulated"
         )
     return period * np.arange(count + 1), substeps
+
+
+_UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
+
+
+@contextmanager
+def stability_watch(data: Any, advice: str) -> Iterator[None]:
+    """Raise if the physics diverged while the block ran, instead of returning garbage.
+
+    When a simulation blows up MuJoCo resets its state and carries on, printing a
+    warning and appending it to ``MUJOCO_LOG.TXT`` in the working directory. Here
+    its warnings are collected instead (nothing printed or written) and any
+    divergence in ``data`` becomes an :class:`~trajkit.errors.InfeasibleError`
+    quoting MuJoCo, followed by ``advice``.
+    """
+    mujoco = mujoco_module()
+    messages: list[str] = []
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(messages.append)
+    try:
+        yield
+    finally:
+        mujoco.set_mju_user_warning(previous)
+    diverged = [
+        getattr(mujoco.mjtWarning, name)
+        for name in _UNSTABLE
+        if data.warning[getattr(mujoco.mjtWarning, name)].number > 0
+    ]
+    if diverged:
+        said = messages[0].strip() if messages else "an unstable simulation"
+        raise InfeasibleError(f"the simulation diverged (MuJoCo: {said}); {advice}")

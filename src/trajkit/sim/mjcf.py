@@ -26,6 +26,8 @@ __all__ = ["Actuator", "arm_extent", "chain_mjcf", "diff_drive_mjcf"]
 
 #: Below this (m) a link segment is not drawn: coincident joint origins.
 _MIN_SEGMENT = 1e-9
+#: The far end of a joint range open on one side (rad or m).
+_OPEN_RANGE = 1e6
 
 
 @dataclass(frozen=True)
@@ -186,7 +188,7 @@ def chain_mjcf(
     )
     if base[2, 3] > link_radius:
         # A pedestal from the floor up to the base, drawn in the base's frame.
-        floor = base[:3, :3].T @ (np.array([0.0, 0.0, 0.0]) - base[:3, 3])
+        floor = base[:3, :3].T @ (np.array([base[0, 3], base[1, 3], 0.0]) - base[:3, 3])
         ET.SubElement(
             parent,
             "geom",
@@ -222,8 +224,11 @@ def chain_mjcf(
             "damping": _num(damping[index]),
             "armature": _num(armature[index]),
         }
-        if np.isfinite(joint.lower) and np.isfinite(joint.upper):
-            attributes["range"] = _vec([joint.lower, joint.upper])
+        if np.isfinite(joint.lower) or np.isfinite(joint.upper):
+            # MJCF ranges have two ends: an open side becomes one no motion reaches.
+            lower = joint.lower if np.isfinite(joint.lower) else -_OPEN_RANGE
+            upper = joint.upper if np.isfinite(joint.upper) else _OPEN_RANGE
+            attributes["range"] = _vec([lower, upper])
         if effort_limit is not None:
             # The drive's torque limit bounds the sum of all actuators on the joint.
             attributes["actuatorfrcrange"] = _vec([-effort_limit[index], effort_limit[index]])

@@ -129,7 +129,7 @@ def frames(
             raise InvalidInputError(
                 f"the log has {log.actual.shape[1]} joints, the scene {scene.ndof}"
             )
-        model = scene.compiled([], scene.gravity_compensation)
+        model = scene.compiled()
         extent = arm_extent(scene.robot)
         # Every frame looks at the middle of the arm's whole motion.
         centre = scene.robot.points(log.actual[rows]).reshape(-1, 3).mean(axis=0)

@@ -11,31 +11,21 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit._validation import finite_array, joint_parameter, positive_scalar
 from trajkit.errors import InvalidInputError
-from trajkit.kinematics import RRBot, SerialChain
+from trajkit.kinematics import UR5, RRBot, SerialChain
 from trajkit.mobile.models import DiffDrive, jackal
+from trajkit.sim.controllers import ArmController, arm_controller, is_torque_control
 from trajkit.sim.mjcf import Actuator, arm_extent, chain_mjcf, diff_drive_mjcf
 
-__all__ = ["ArmScene", "MobileScene", "arm_scene", "jackal_scene", "rrbot_scene"]
+__all__ = ["ArmScene", "MobileScene", "arm_scene", "jackal_scene", "rrbot_scene", "ur5_scene"]
 
-
-def _per_joint(name: str, value: ArrayLike, ndof: int, unit: str, *, zero_ok: bool) -> FloatArray:
-    array = finite_array(name, value, unit=unit)
-    if array.ndim == 0:
-        array = np.full(ndof, float(array))
-    if array.shape != (ndof,):
-        raise InvalidInputError(
-            f"{name} must be one number or one per joint ({ndof}), got shape {array.shape}"
-        )
-    if np.any(array < 0.0) or (not zero_ok and np.any(array == 0.0)):
-        rule = ">= 0" if zero_ok else "> 0"
-        raise InvalidInputError(f"{name} must be {rule} {unit}, got {array.tolist()}")
-    return array
+_CACHED_MODELS = 8
 
 
 def _timestep(value: float) -> float:
@@ -97,32 +87,64 @@ class ArmScene:
         )
         object.__setattr__(self, "link_radius", radius)
         object.__setattr__(
-            self, "link_mass", _per_joint("link_mass", self.link_mass, n, "kg", zero_ok=False)
+            self, "link_mass", joint_parameter("link_mass", self.link_mass, n, "kg", zero_ok=False)
         )
         object.__setattr__(
-            self, "damping", _per_joint("damping", self.damping, n, "N·m·s/rad", zero_ok=True)
+            self, "damping", joint_parameter("damping", self.damping, n, "N·m·s/rad", zero_ok=True)
         )
         object.__setattr__(
-            self, "armature", _per_joint("armature", self.armature, n, "kg·m²", zero_ok=True)
+            self, "armature", joint_parameter("armature", self.armature, n, "kg·m²", zero_ok=True)
         )
         if self.effort_limit is not None:
-            limit = _per_joint("effort_limit", self.effort_limit, n, "N·m", zero_ok=False)
+            limit = joint_parameter("effort_limit", self.effort_limit, n, "N·m", zero_ok=False)
             object.__setattr__(self, "effort_limit", limit)
         object.__setattr__(self, "timestep", _timestep(self.timestep))
+        if not isinstance(self.gravity_compensation, (bool, np.bool_)):
+            raise InvalidInputError(
+                f"gravity_compensation must be True or False, got {self.gravity_compensation!r}"
+            )
         object.__setattr__(self, "gravity_compensation", bool(self.gravity_compensation))
+        for name in ("link_mass", "damping", "armature", "effort_limit"):
+            value = getattr(self, name)
+            if value is not None:
+                # A frozen scene: its compiled models must stay what its arrays say.
+                value = value.copy()
+                value.setflags(write=False)
+                object.__setattr__(self, name, value)
 
     @property
     def ndof(self) -> int:
         """Number of joints."""
         return self.robot.ndof
 
-    def mjcf(
-        self,
-        actuators: Sequence[Actuator] = (Actuator("motor"),),
-        *,
-        gravity_compensation: bool | None = None,
-    ) -> str:
-        """The scene as MJCF text, with one of each ``actuators`` on every joint."""
+    def mjcf(self, controller: str | ArmController = "position") -> str:
+        """The scene as MJCF text, with ``controller``'s actuators on every joint."""
+        actuators, gravity = self._actuation(controller)
+        return self._mjcf(actuators, gravity)
+
+    def compiled(self, controller: str | ArmController = "position") -> Any:
+        """The compiled ``mujoco.MjModel`` with ``controller``'s actuators.
+
+        Compiled once per scene and controller (the last eight are kept). Torque
+        controllers compute gravity in their own inverse dynamics, so their model
+        never adds the servos' gravity compensation.
+        """
+        from trajkit.sim.engine import compile_scene
+
+        actuators, gravity = self._actuation(controller)
+        key = (gravity, *(actuator.key() for actuator in actuators))
+        if key not in self._compiled:
+            if len(self._compiled) >= _CACHED_MODELS:
+                self._compiled.pop(next(iter(self._compiled)))
+            self._compiled[key] = compile_scene(self._mjcf(actuators, gravity))
+        return self._compiled[key]
+
+    def _actuation(self, controller: str | ArmController) -> tuple[list[Actuator], bool]:
+        control = arm_controller(controller)
+        gravity = self.gravity_compensation and not is_torque_control(control)
+        return control.actuators(self.ndof), gravity
+
+    def _mjcf(self, actuators: Sequence[Actuator], gravity_compensation: bool) -> str:
         return chain_mjcf(
             self.robot,
             actuators=actuators,
@@ -131,22 +153,9 @@ class ArmScene:
             damping=self.damping,
             armature=self.armature,
             effort_limit=self.effort_limit,
-            gravity_compensation=self.gravity_compensation
-            if gravity_compensation is None
-            else gravity_compensation,
+            gravity_compensation=gravity_compensation,
             timestep=self.timestep,
         )
-
-    def compiled(self, actuators: Sequence[Actuator], gravity_compensation: bool) -> object:
-        """The MuJoCo model with ``actuators``, compiled once per scene and actuator set."""
-        from trajkit.sim.engine import compile_scene
-
-        key = (bool(gravity_compensation), *(actuator.key() for actuator in actuators))
-        if key not in self._compiled:
-            self._compiled[key] = compile_scene(
-                self.mjcf(actuators, gravity_compensation=gravity_compensation)
-            )
-        return self._compiled[key]
 
 
 @dataclass(frozen=True, eq=False)
@@ -213,6 +222,12 @@ class MobileScene:
         if damping.ndim != 0 or damping < 0.0:
             raise InvalidInputError(f"wheel_damping must be one number >= 0, got {damping}")
         object.__setattr__(self, "wheel_damping", float(damping))
+        mass = 17.0 if self.model.mass is None else self.model.mass
+        if 2.0 * self.wheel_mass + 0.02 * mass > 0.9 * mass:
+            raise InvalidInputError(
+                f"two wheels of {self.wheel_mass:g} kg leave no chassis in a {mass:g} kg robot; "
+                "wheels and casters must weigh less than 90% of the model's mass"
+            )
         if self.caster_radius >= self.model.wheel_radius:
             raise InvalidInputError(
                 f"caster_radius {self.caster_radius:g} m must be below the wheel radius "
@@ -237,8 +252,8 @@ class MobileScene:
             timestep=self.timestep,
         )
 
-    def compiled(self) -> object:
-        """The MuJoCo model (with the base at the origin), compiled once per scene."""
+    def compiled(self) -> Any:
+        """The ``mujoco.MjModel`` (with the base at the origin), compiled once per scene."""
         from trajkit.sim.engine import compile_scene
 
         if "model" not in self._compiled:
@@ -260,6 +275,19 @@ def rrbot_scene(**parameters: object) -> ArmScene:
     values: dict[str, object] = {"link_radius": 0.05, "link_mass": 1.0, "damping": 0.7}
     values.update(parameters)
     return ArmScene(RRBot(), **values)  # type: ignore[arg-type]
+
+
+def ur5_scene(**parameters: object) -> ArmScene:
+    """The UR5 with the link masses of Universal Robots' description (3.7 ... 0.19 kg).
+
+    Keyword arguments override any :class:`ArmScene` parameter.
+    """
+    values: dict[str, object] = {
+        "link_mass": [3.7, 8.393, 2.33, 1.219, 1.219, 0.1879],
+        "link_radius": 0.045,
+    }
+    values.update(parameters)
+    return ArmScene(UR5(), **values)  # type: ignore[arg-type]
 
 
 def jackal_scene(**parameters: object) -> MobileScene:

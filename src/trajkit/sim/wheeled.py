@@ -21,12 +21,12 @@ from numpy.typing import ArrayLike
 from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
-from trajkit.mobile.control import Controller, Feedforward
+from trajkit.mobile.control import Controller, Feedforward, controller_named
 from trajkit.mobile.limits import MobileLimits, check_limits
-from trajkit.mobile.models import chain_arcs, constant_twist_pose, pose_array, wrap_angle
+from trajkit.mobile.models import chain_arcs, pose_array, wrap_angle
 from trajkit.mobile.simulate import HeldCommands, SimulationLog, log_fields
 from trajkit.mobile.trajectory import MobileTrajectory
-from trajkit.sim.engine import control_grid, mujoco_module
+from trajkit.sim.engine import control_grid, mujoco_module, stability_watch
 from trajkit.sim.scenes import MobileScene
 
 __all__ = ["PhysicsLog", "run_mobile"]
@@ -51,7 +51,8 @@ class PhysicsLog(SimulationLog):
     measured_wheel_speeds : ndarray, shape (n, 2)
         Left and right wheel speeds measured at each command time (rad/s).
     wheel_torques : ndarray, shape (n, 2)
-        Motor torques at the end of each command period (N·m).
+        Motor torques at each command time, as the new command takes effect: the
+        largest of the period for the wheels' velocity servos (N·m).
     feedback : str
         What the controller saw: ``"ground_truth"`` or ``"odometry"``.
     """
@@ -182,10 +183,14 @@ def run_mobile(
             f"a mobile scene runs a MobileTrajectory, got {type(plan).__name__}"
         )
     controller = Feedforward() if controller is None else controller
+    if isinstance(controller, str):
+        controller = controller_named(controller)
     if not callable(getattr(controller, "law", None)):
         raise InvalidInputError(
-            f"controller must have a law(plan, start) method, got {type(controller).__name__}"
+            f"controller must be a name or have a law(plan, start) method, got "
+            f"{type(controller).__name__}"
         )
+    name = getattr(controller, "name", type(controller).__name__)
     if feedback not in ("ground_truth", "odometry"):
         raise InvalidInputError(f"feedback must be 'ground_truth' or 'odometry', got {feedback!r}")
     end = plan.duration if duration is None else positive_scalar("duration", duration, unit="s")
@@ -209,30 +214,40 @@ def run_mobile(
     qpos, qvel = np.empty((count, model.nq)), np.empty((count, model.nv))
     torques, commands = np.empty((count, 2)), np.empty((count, 2))
     odometry = start.copy()
-    for k in range(count):  # a closed loop is sequential by nature
-        qpos[k], qvel[k] = data.qpos, data.qvel
-        if feedback == "odometry":
-            if k > 0:
-                turned = qpos[k, base.angles] - qpos[k - 1, base.angles]
-                odometry = _odometry_step(odometry, turned, robot)
-            v, w = commander(odometry)
-        else:
-            v, w = commander(base.pose(qpos[k]))
-        commands[k] = v, w
-        data.ctrl[:] = robot.wheel_pair(v, w)
-        if k + 1 < count:
-            mujoco.mj_step(model, data, substeps)
-        torques[k] = data.actuator_force
-    truth, angles = base.poses(qpos), qpos[:, base.angles]
+    advice = (
+        f"the {name} at {control_rate_hz:g} Hz is unstable on this base: lower its gains, "
+        "the wheel gain, or raise the command rate"
+    )
+    with stability_watch(data, advice):
+        for k in range(count):  # a closed loop is sequential by nature
+            qpos[k], qvel[k] = data.qpos, data.qvel
+            if feedback == "odometry":
+                if k > 0:
+                    odometry = chain_arcs(odometry, *_wheel_arcs(qpos[k - 1 : k + 1, base.angles],
+                                                                 robot))[-1]  # fmt: skip
+                v, w = commander(odometry)
+            else:
+                v, w = commander(base.pose(qpos[k]))
+            commands[k] = v, w
+            data.ctrl[:] = robot.wheel_pair(v, w)
+            if k + 1 < count:
+                # The torque of the first step, as the new command takes effect: a
+                # velocity servo's largest of the period.
+                mujoco.mj_step(model, data)
+                torques[k] = data.actuator_force
+                if substeps > 1:
+                    mujoco.mj_step(model, data, substeps - 1)
+            else:
+                mujoco.mj_forward(model, data)
+                torques[k] = data.actuator_force
+    truth = base.poses(qpos)
     # The true heading, unwrapped so that it compares with the plan's unwrapped heading.
     truth[:, 2] = start[2] + np.unwrap(wrap_angle(truth[:, 2] - start[2]))
-    turned = robot.wheel_radius * np.diff(angles[:, 1] - angles[:, 0]) / robot.effective_track
-    rolled = robot.wheel_radius * np.diff(angles[:, 1] + angles[:, 0]) / 2.0
     period = times[1] - times[0] if count > 1 else 0.0
     return PhysicsLog(
         **log_fields(plan, times, truth, commands, robot),
-        controller=getattr(controller, "name", type(controller).__name__),
-        odometry=chain_arcs(start, rolled, turned),
+        controller=name,
+        odometry=chain_arcs(start, *_wheel_arcs(qpos[:, base.angles], robot)),
         kinematic=chain_arcs(start, commands[:-1, 0] * period, commands[:-1, 1] * period),
         measured_wheel_speeds=qvel[:, base.speeds],
         wheel_torques=torques,
@@ -240,9 +255,7 @@ def run_mobile(
     )
 
 
-def _odometry_step(pose: FloatArray, turned_angles: FloatArray, robot: Any) -> FloatArray:
-    """The odometry pose after the wheels turned by ``turned_angles`` (left, right; rad)."""
-    left, right = robot.wheel_radius * turned_angles
-    return constant_twist_pose(
-        pose, (left + right) / 2.0, (right - left) / robot.effective_track, 1.0
-    )
+def _wheel_arcs(angles: FloatArray, robot: Any) -> tuple[FloatArray, FloatArray]:
+    """Distances rolled and angles turned between rows of wheel angles (left, right; rad)."""
+    left, right = robot.wheel_radius * np.diff(angles, axis=0).T
+    return (left + right) / 2.0, (right - left) / robot.effective_track
