@@ -17,10 +17,10 @@ Both sides use the same UR5 DH table; medians over repetitions.
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
+from timing import median_seconds
 from trajkit.kinematics import UR5
 
 START = np.array([0.3, -1.2, 1.5, -1.9, -1.57, 0.2])  # a comfortable, non-singular pose
@@ -46,15 +46,6 @@ def rtb_ur5():
     q = np.random.default_rng(1).uniform(-3, 3, 6)
     assert np.allclose(robot.fkine(q).A, chain.fk(q), atol=1e-12), "DH tables differ"
     return robot
-
-
-def median_seconds(function, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times))
 
 
 def bench_fk(configs: int, repeats: int) -> None:

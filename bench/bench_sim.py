@@ -23,23 +23,14 @@ repetitions (the scene is compiled once, before timing, as ``run`` caches it).
 from __future__ import annotations
 
 import argparse
-import time
 
 import mujoco
 import numpy as np
 
 import trajkit as tk
+from timing import median_seconds
 from trajkit import mobile, sim
 from trajkit.kinematics import UR5
-
-
-def median_seconds(function, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times))
 
 
 def arm_case(label, scene, plan, controller, rate_hz):
