@@ -90,7 +90,11 @@ def test_frames_gives_rgb_arrays(arm):
         (["frame.jpg"], {}, r"paths must be one or more .png files"),
         (["a.png", "b"], {}, r"paths must be one or more .png files"),
         ([], {}, r"paths must be one or more .png files"),
-        (["a.png"], {"width": 1281}, r"width x height must be within 1280 x 960, got 1281 x"),
+        (
+            ["a.png"],
+            {"width": 1281},
+            r"width x height must be whole numbers of pixels within 1280 x 960, got 1281 x",
+        ),
         (["a.png"], {"height": 961}, r"within 1280 x 960"),
         (["a.png"], {"width": 0}, r"within 1280 x 960"),
         (["a.png"], {"height": -5}, r"within 1280 x 960"),
@@ -173,3 +177,9 @@ def test_rendering_after_importing_mujoco_first_never_aborts(tmp_path):
     assert len(lines) == 2
     # Either both render, or both say what to do: set MUJOCO_GL before importing mujoco.
     assert all(line == "rendered" or "MUJOCO_GL" in line for line in lines)
+
+
+def test_numpy_integer_sizes_are_accepted(arm):
+    scene, log = arm
+    (image,) = sim.frames(scene, log, [0.0], width=np.int64(64), height=np.int32(48))
+    assert image.shape == (48, 64, 3)

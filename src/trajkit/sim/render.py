@@ -8,6 +8,7 @@ install; simulation itself never needs OpenGL.
 
 from __future__ import annotations
 
+import numbers
 import os
 import sys
 from collections.abc import Sequence
@@ -111,13 +112,15 @@ def frames(
     SimulationUnavailableError
         If no OpenGL backend works here, with what to install.
     """
-    if not (
-        isinstance(width, int)
-        and isinstance(height, int)
-        and 0 < width <= 1280
-        and 0 < height <= 960
-    ):
-        raise InvalidInputError(f"width x height must be within 1280 x 960, got {width} x {height}")
+    whole = all(
+        isinstance(n, numbers.Integral) and not isinstance(n, bool) for n in (width, height)
+    )
+    if not (whole and 0 < width <= 1280 and 0 < height <= 960):
+        raise InvalidInputError(
+            f"width x height must be whole numbers of pixels within 1280 x 960, got {width!r} x "
+            f"{height!r}"
+        )
+    width, height = int(width), int(height)
     _check_pair(scene, log)
     when = np.atleast_1d(finite_array("times", times, unit="s"))
     if when.ndim != 1 or when.size == 0:
