@@ -1,0 +1,277 @@
+"""ROS 2 bags of trajkit plans, written without a ROS install (the ``rosbags`` library).
+
+An arm plan becomes one ``trajectory_msgs/JointTrajectory`` message with all its
+points (what a ``joint_trajectory_controller`` takes), and optionally a stream of
+``sensor_msgs/JointState`` (or ``trajectory_msgs/JointTrajectoryPoint``) messages
+at a controller rate. A mobile plan becomes a ``geometry_msgs/Twist`` command
+stream and one ``nav_msgs/Path``. Bags are MCAP by default (sqlite3 on request),
+ROS 2 Humble message definitions; ``pip install "trajkit[ros]"``.
+
+A bag is a folder; it is written beside its destination under a temporary name
+and renamed into place, so a failure leaves no partial bag.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+
+from trajkit._validation import FloatArray, positive_scalar
+from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.mobile.trajectory import MobileTrajectory
+from trajkit.trajectory import Trajectory, sample_times
+
+__all__ = ["Ros2Unavailable", "write_bag"]
+
+Storage = Literal["mcap", "sqlite3"]
+Stream = Literal["joint_state", "point"]
+INSTALL_HINT = 'pip install "trajkit[ros]"'
+#: Pieces up to this degree are reproduced exactly by a controller's quintic
+#: interpolation between points that carry position, velocity and acceleration.
+_QUINTIC = 5
+#: Sampling period (s) of arm plans of higher degree.
+_DENSE_PERIOD = 0.01
+
+
+class Ros2Unavailable(TrajkitError):
+    """The ``rosbags`` library is not installed."""
+
+
+def _rosbags() -> tuple[Any, Any, Any]:
+    try:
+        from rosbags.rosbag2 import StoragePlugin, Writer
+        from rosbags.typesys import Stores, get_typestore
+    except ImportError as exc:
+        raise Ros2Unavailable(
+            f"ROS 2 bags need the rosbags library ({exc}); install it with: {INSTALL_HINT}"
+        ) from None
+    return Writer, StoragePlugin, get_typestore(Stores.ROS2_HUMBLE)
+
+
+def _stamp(types: Any, nanoseconds: int, kind: str) -> Any:
+    return types.types[f"builtin_interfaces/msg/{kind}"](
+        sec=int(nanoseconds // 1_000_000_000), nanosec=int(nanoseconds % 1_000_000_000)
+    )
+
+
+def _nanoseconds(seconds: FloatArray) -> np.ndarray:
+    return np.rint(np.asarray(seconds) * 1e9).astype(np.int64)
+
+
+def write_bag(
+    path: str | os.PathLike[str],
+    plan: Trajectory | MobileTrajectory,
+    *,
+    joint_names: Sequence[str] | None = None,
+    dt: float | None = None,
+    stream: Stream | None = None,
+    rate_hz: float | None = None,
+    storage: Storage = "mcap",
+    start_ns: int = 0,
+    frame_id: str = "odom",
+    topic_prefix: str = "",
+) -> Path:
+    """Write a plan as a ROS 2 bag (a folder).
+
+    Parameters
+    ----------
+    path : path-like
+        The bag folder to create (replaced atomically if it exists).
+    plan : Trajectory or MobileTrajectory
+    joint_names : sequence of str, optional
+        Arm plans: the joints' names (default ``joint1`` ...).
+    dt : float, optional
+        Arm plans: the spacing of the ``JointTrajectory`` points (s). Default: the
+        plan's breakpoints when its pieces are of degree 5 or less (a controller's
+        quintic interpolation of positions, velocities and accelerations then
+        reproduces the plan exactly), else every 10 ms. Mobile plans: the spacing of
+        the ``Path`` poses (default 0.1 s).
+    stream : {"joint_state", "point"}, optional
+        Arm plans: also a stream of ``sensor_msgs/JointState`` on ``/joint_states``
+        or of ``trajectory_msgs/JointTrajectoryPoint`` on ``/joint_trajectory_point``
+        at ``rate_hz``.
+    rate_hz : float, optional
+        The stream's rate (arm plans, default 100 Hz) or the ``Twist`` command rate
+        on ``/cmd_vel`` (mobile plans; default the plan's own command rate, else
+        10 Hz).
+    storage : {"mcap", "sqlite3"}
+    start_ns : int
+        Bag time (ns) of the plan's start.
+    frame_id : str
+        Mobile plans: the ``Path``'s frame.
+    topic_prefix : str
+        Put before every topic name, e.g. ``"/robot1"``.
+
+    Returns
+    -------
+    Path
+        The bag folder.
+
+    Raises
+    ------
+    Ros2Unavailable
+        If rosbags is not installed.
+    InvalidInputError
+        For an unknown storage or stream, bad rates or names.
+    """
+    writer_class, plugins, types = _rosbags()
+    if storage not in ("mcap", "sqlite3"):
+        raise InvalidInputError(f"storage must be 'mcap' or 'sqlite3', got {storage!r}")
+    if not isinstance(start_ns, (int, np.integer)) or start_ns < 0:
+        raise InvalidInputError(f"start_ns must be a whole number >= 0, got {start_ns!r}")
+    if topic_prefix and (not topic_prefix.startswith("/") or topic_prefix.endswith("/")):
+        raise InvalidInputError(
+            f"topic_prefix must start with '/' and not end with one, got {topic_prefix!r}"
+        )
+    if isinstance(plan, Trajectory):
+        messages = _arm_messages(types, plan, joint_names, dt, stream, rate_hz, int(start_ns))
+    elif isinstance(plan, MobileTrajectory):
+        if joint_names is not None or stream is not None:
+            raise InvalidInputError("joint_names and stream are for arm plans (a Trajectory)")
+        messages = _mobile_messages(types, plan, dt, rate_hz, int(start_ns), frame_id)
+    else:
+        raise InvalidInputError(
+            f"plan must be a Trajectory or a MobileTrajectory, got {type(plan).__name__}"
+        )
+    plugin = plugins.MCAP if storage == "mcap" else plugins.SQLITE3
+    return _atomic_bag(Path(path), writer_class, plugin, types, messages, topic_prefix)
+
+
+def _arm_messages(
+    types: Any,
+    plan: Trajectory,
+    joint_names: Sequence[str] | None,
+    dt: float | None,
+    stream: Stream | None,
+    rate_hz: float | None,
+    start_ns: int,
+) -> list[tuple[str, str, int, Any]]:
+    names = [f"joint{j + 1}" for j in range(plan.ndof)] if joint_names is None else joint_names
+    names = [str(name) for name in names]
+    if len(names) != plan.ndof or len(set(names)) != len(names) or not all(names):
+        raise InvalidInputError(
+            f"joint_names must be {plan.ndof} distinct non-empty names, got {list(names)}"
+        )
+    if stream not in (None, "joint_state", "point"):
+        raise InvalidInputError(f"stream must be 'joint_state' or 'point', got {stream!r}")
+    if dt is not None:
+        times = sample_times(plan.start_time, plan.end_time, positive_scalar("dt", dt, unit="s"))
+    elif plan.degree <= _QUINTIC:
+        times = plan.breakpoints
+    else:
+        times = sample_times(plan.start_time, plan.end_time, _DENSE_PERIOD)
+    header = types.types["std_msgs/msg/Header"]
+    point = types.types["trajectory_msgs/msg/JointTrajectoryPoint"]
+    states = [np.ascontiguousarray(plan.evaluate(times, order)) for order in range(3)]
+    since = _nanoseconds(times - plan.start_time)
+    points = [
+        point(positions=states[0][k], velocities=states[1][k], accelerations=states[2][k],
+              effort=np.zeros(0), time_from_start=_stamp(types, since[k], "Duration"))
+        for k in range(times.size)
+    ]  # fmt: skip
+    trajectory = types.types["trajectory_msgs/msg/JointTrajectory"](
+        header=header(stamp=_stamp(types, start_ns, "Time"), frame_id=""),
+        joint_names=names,
+        points=points,
+    )
+    messages = [("/joint_trajectory", trajectory.__msgtype__, start_ns, trajectory)]
+    if stream is None:
+        if rate_hz is not None:
+            raise InvalidInputError("rate_hz sets the stream's rate: pass stream= too")
+        return messages
+    rate = 100.0 if rate_hz is None else positive_scalar("rate_hz", rate_hz, unit="Hz")
+    ticks = sample_times(plan.start_time, plan.end_time, 1.0 / rate)
+    values = [np.ascontiguousarray(plan.evaluate(ticks, order)) for order in range(3)]
+    stamps = start_ns + _nanoseconds(ticks - plan.start_time)
+    for k, stamp in enumerate(stamps.tolist()):
+        if stream == "joint_state":
+            message = types.types["sensor_msgs/msg/JointState"](
+                header=header(stamp=_stamp(types, stamp, "Time"), frame_id=""),
+                name=names, position=values[0][k], velocity=values[1][k], effort=np.zeros(0),
+            )  # fmt: skip
+            messages.append(("/joint_states", message.__msgtype__, stamp, message))
+        else:
+            message = point(positions=values[0][k], velocities=values[1][k],
+                            accelerations=values[2][k], effort=np.zeros(0),
+                            time_from_start=_stamp(types, stamp - start_ns, "Duration"))  # fmt: skip
+            messages.append(("/joint_trajectory_point", message.__msgtype__, stamp, message))
+    return messages
+
+
+def _mobile_messages(
+    types: Any,
+    plan: MobileTrajectory,
+    dt: float | None,
+    rate_hz: float | None,
+    start_ns: int,
+    frame_id: str,
+) -> list[tuple[str, str, int, Any]]:
+    if not isinstance(frame_id, str) or not frame_id:
+        raise InvalidInputError(f"frame_id must be a non-empty name, got {frame_id!r}")
+    rate = rate_hz if rate_hz is not None else plan.info.get("rate_hz") or 10.0
+    times, twists = plan.commands(positive_scalar("rate_hz", rate, unit="Hz"))
+    vector, twist = types.types["geometry_msgs/msg/Vector3"], types.types["geometry_msgs/msg/Twist"]
+    messages = []
+    for t, (v, omega) in zip(_nanoseconds(times).tolist(), twists.tolist(), strict=True):
+        message = twist(linear=vector(x=v, y=0.0, z=0.0), angular=vector(x=0.0, y=0.0, z=omega))
+        messages.append(("/cmd_vel", message.__msgtype__, start_ns + t, message))
+    period = 0.1 if dt is None else positive_scalar("dt", dt, unit="s")
+    ticks = sample_times(0.0, plan.duration, period) if plan.duration > 0 else np.zeros(1)
+    poses = plan.pose(ticks)
+    header = types.types["std_msgs/msg/Header"]
+    geometry = [types.types[f"geometry_msgs/msg/{name}"] for name in ("PoseStamped", "Pose", "Point",
+                                                                 "Quaternion")]  # fmt: skip
+    stamped, pose, point, quaternion = geometry
+    path_poses = [
+        stamped(header=header(stamp=_stamp(types, start_ns + stamp, "Time"), frame_id=frame_id),
+                pose=pose(position=point(x=x, y=y, z=0.0),
+                          orientation=quaternion(x=0.0, y=0.0, z=np.sin(theta / 2.0),
+                                                 w=np.cos(theta / 2.0))))
+        for stamp, (x, y, theta) in zip(_nanoseconds(ticks).tolist(), poses.tolist(), strict=True)
+    ]  # fmt: skip
+    path = types.types["nav_msgs/msg/Path"](
+        header=header(stamp=_stamp(types, start_ns, "Time"), frame_id=frame_id), poses=path_poses
+    )
+    messages.insert(0, ("/plan", path.__msgtype__, start_ns, path))
+    return messages
+
+
+def _atomic_bag(
+    target: Path,
+    writer_class: Any,
+    plugin: Any,
+    types: Any,
+    messages: list[tuple[str, str, int, Any]],
+    prefix: str,
+) -> Path:
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise InvalidInputError(f"the bag's folder {folder} does not exist")
+    if target.exists() and not (target / "metadata.yaml").is_file():
+        raise InvalidInputError(f"{target} exists and is not a ROS 2 bag; not replacing it")
+    scratch = Path(tempfile.mkdtemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp"))
+    staged = scratch / target.name
+    try:
+        with writer_class(staged, version=9, storage_plugin=plugin) as writer:
+            connections: dict[str, Any] = {}
+            for topic, msgtype, stamp, message in messages:
+                if topic not in connections:
+                    connections[topic] = writer.add_connection(prefix + topic, msgtype,
+                                                               typestore=types)  # fmt: skip
+                writer.write(connections[topic], stamp, types.serialize_cdr(message, msgtype))
+        if target.exists():
+            # Swap the old bag out, the new one in, then drop the old one.
+            old = scratch / (target.name + ".old")
+            os.replace(target, old)
+        os.replace(staged, target)
+    finally:
+        with contextlib.suppress(OSError):
+            shutil.rmtree(scratch)
+    return target
