@@ -198,9 +198,10 @@ def _arm_messages(
             )  # fmt: skip
             messages.append(("/joint_states", message.__msgtype__, stamp, message))
         else:
+            since_start = _stamp(types, stamp - start_ns, "Duration")
             message = point(positions=values[0][k], velocities=values[1][k],
                             accelerations=values[2][k], effort=np.zeros(0),
-                            time_from_start=_stamp(types, stamp - start_ns, "Duration"))  # fmt: skip
+                            time_from_start=since_start)  # fmt: skip
             messages.append(("/joint_trajectory_point", message.__msgtype__, stamp, message))
     return messages
 
@@ -226,9 +227,8 @@ def _mobile_messages(
     ticks = sample_times(0.0, plan.duration, period) if plan.duration > 0 else np.zeros(1)
     poses = plan.pose(ticks)
     header = types.types["std_msgs/msg/Header"]
-    geometry = [types.types[f"geometry_msgs/msg/{name}"] for name in ("PoseStamped", "Pose", "Point",
-                                                                 "Quaternion")]  # fmt: skip
-    stamped, pose, point, quaternion = geometry
+    names = ("PoseStamped", "Pose", "Point", "Quaternion")
+    stamped, pose, point, quaternion = (types.types[f"geometry_msgs/msg/{n}"] for n in names)
     path_poses = [
         stamped(header=header(stamp=_stamp(types, start_ns + stamp, "Time"), frame_id=frame_id),
                 pose=pose(position=point(x=x, y=y, z=0.0),
