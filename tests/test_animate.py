@@ -1,0 +1,130 @@
+"""Animations: real-time frames, GIF files read back, progress, errors, no partial files."""
+
+from __future__ import annotations
+
+import io
+import os
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import trajkit as tk
+from trajkit import animate, mobile
+from trajkit.animate import AnimationUnavailable
+from trajkit.errors import InvalidInputError
+from trajkit.kinematics import RRBot, Spatial3R
+
+PLAN = tk.cubic(np.radians([0.0, 0.0]), np.radians([60.0, -40.0]), duration=2.0)
+
+
+def frames_of(path) -> tuple[int, list[int]]:
+    with Image.open(path) as image:
+        durations = []
+        for index in range(image.n_frames):
+            image.seek(index)
+            durations.append(image.info["duration"])
+        return image.n_frames, durations
+
+
+@pytest.mark.parametrize("view", ["xz", "3d"])
+def test_arm_gif_plays_in_real_time(tmp_path, view):
+    path = animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view=view, fps=5, size=2.0)
+    assert path == tmp_path / "arm.gif"
+    count, durations = frames_of(path)
+    assert count == 11  # t = 0, 0.2, ..., 2.0 s
+    assert set(durations) == {200}  # ms per frame: 1 / 5 fps
+    assert os.listdir(tmp_path) == ["arm.gif"]  # no temporary left beside it
+
+
+def test_speed_plays_faster_and_the_end_is_always_shown(tmp_path):
+    plan = tk.cubic([0.0, 0.0, 0.0], [0.4, 0.3, -0.2], duration=2.1)
+    path = animate.arm(Spatial3R(), plan, tmp_path / "fast.gif", fps=4, speed=2.0, size=2.0)
+    count, _ = frames_of(path)
+    # 1.05 s of animation at 4 frames/s: t = 0, 0.5, 1.0, 1.5, 2.0, then the end 2.1 s.
+    assert count == 6
+
+
+def test_mobile_from_a_plan_and_from_a_log(tmp_path):
+    plan = mobile.constant_twist(0.2, 0.5, 3.0)
+    count, _ = frames_of(animate.mobile(plan, tmp_path / "plan.gif", fps=3, size=2.0))
+    assert count == 10
+    log = mobile.simulate(plan, dt=0.01, initial_pose=(0.05, 0.0, 0.0))
+    count, _ = frames_of(animate.mobile(log, tmp_path / "log.gif", fps=3, speed=1.5, size=2.0))
+    assert count == 7  # 2 s of animation: t = 0, 0.5, ..., 3.0 s
+
+
+def test_progress_bar_on_a_given_stream(tmp_path):
+    stream = io.StringIO()
+    plan = tk.cubic([0.0, 0.0], [0.2, 0.1], duration=5.0)
+    animate.arm(RRBot(), plan, tmp_path / "long.gif", view="xz", fps=10, size=1.0,
+                progress=stream)  # fmt: skip
+    text = stream.getvalue()
+    assert text.startswith("\ranimating long.gif [")
+    assert text.endswith("[#########################] 100%\n")
+
+
+def test_no_progress_bar_off_a_terminal_or_when_refused(tmp_path, capsys):
+    plan = tk.cubic([0.0, 0.0], [0.2, 0.1], duration=5.0)
+    animate.arm(RRBot(), plan, tmp_path / "quiet.gif", view="xz", fps=10, size=1.0)
+    animate.arm(RRBot(), plan, tmp_path / "off.gif", view="xz", fps=10, size=1.0,
+                progress=False)  # fmt: skip
+    assert capsys.readouterr().err == ""  # pytest's stderr is not a terminal
+
+
+@pytest.mark.parametrize(
+    ("path", "kwargs", "error", "match"),
+    [
+        ("arm.png", {}, InvalidInputError, r"must end in \.gif or \.mp4, got 'arm\.png'"),
+        ("arm.gif", {"view": "top"}, InvalidInputError, r"view must be '3d', 'xy', 'xz' or 'yz'"),
+        ("arm.gif", {"fps": 0}, InvalidInputError, r"fps must be > 0"),
+        ("arm.gif", {"fps": np.nan}, InvalidInputError, r"fps must be finite"),
+        ("arm.gif", {"speed": -1.0}, InvalidInputError, r"speed must be > 0"),
+        ("arm.gif", {"fps": 20000}, InvalidInputError, r"40001 frames; at most 20000 are drawn"),
+        ("missing/arm.gif", {}, InvalidInputError, r"folder .*missing does not exist"),
+    ],
+)
+def test_bad_requests_are_refused_before_any_file(tmp_path, path, kwargs, error, match):
+    with pytest.raises(error, match=match):
+        animate.arm(RRBot(), PLAN, tmp_path / path, **kwargs)
+    assert os.listdir(tmp_path) == []
+
+
+def test_mp4_without_ffmpeg_says_what_to_install(tmp_path, monkeypatch):
+    monkeypatch.setattr(animate.shutil, "which", lambda name: None)
+    with pytest.raises(AnimationUnavailable, match="MP4 needs the ffmpeg program"):
+        animate.arm(RRBot(), PLAN, tmp_path / "arm.mp4")
+    with pytest.raises(AnimationUnavailable, match=r"write a \.gif instead"):
+        animate.mobile(mobile.constant_twist(0.1, 0.1, 1.0), tmp_path / "base.mp4")
+    assert os.listdir(tmp_path) == []
+
+
+def test_not_a_mobile_plan_is_refused(tmp_path):
+    with pytest.raises(InvalidInputError, match="MobileTrajectory or a SimulationLog, got Traj"):
+        animate.mobile(PLAN, tmp_path / "x.gif")
+
+
+@pytest.mark.parametrize("interruption", [KeyboardInterrupt, RuntimeError])
+def test_an_interrupted_render_leaves_no_file(tmp_path, monkeypatch, interruption):
+    from matplotlib import animation
+
+    calls = {"frames": 0}
+    original = animation.PillowWriter.grab_frame
+
+    def grab(self, **kwargs):
+        calls["frames"] += 1
+        if calls["frames"] == 3:
+            raise interruption("stop")
+        return original(self, **kwargs)
+
+    monkeypatch.setattr(animation.PillowWriter, "grab_frame", grab)
+    with pytest.raises(interruption):
+        animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="xz", fps=5, size=1.0)
+    assert os.listdir(tmp_path) == []
+    # An existing animation is left as it was.
+    (tmp_path / "arm.gif").write_bytes(b"old")
+    calls["frames"] = 0
+    with pytest.raises(interruption):
+        animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="xz", fps=5, size=1.0)
+    assert (tmp_path / "arm.gif").read_bytes() == b"old"
+    assert os.listdir(tmp_path) == ["arm.gif"]
