@@ -134,6 +134,15 @@ def _build_parser() -> _Parser:
 
     add_mobile_commands(commands)
 
+    scenario = commands.add_parser(
+        "run", help="carry out a scenario file (TOML) and write its outputs",
+        description="Plan, check, optionally simulate, and write every output a scenario "
+        "file asks for.",
+    )  # fmt: skip
+    scenario.add_argument("scenario", type=Path, help="the scenario file (.toml)")
+    scenario.add_argument("--out", type=Path, default=Path("trajkit-out"),
+                          help="output folder (default ./trajkit-out)")  # fmt: skip
+
     demo = commands.add_parser("demo", help="run the worked examples and write their outputs")
     demo.add_argument(
         "--out",
@@ -155,6 +164,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         handlers: dict[str, Callable[[argparse.Namespace], int]] = {
             "plan": _plan,
             "mobile": run_mobile,
+            "run": _run_scenario,
             "demo": _demo,
         }
         handler = handlers[args.command]
@@ -269,6 +279,15 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
         lines.append(f"limit check (SI units): {'OK' if report.ok else 'FAILED'}")
         lines += [f"  {v}" for v in report.violations]
     return "\n".join(lines)
+
+
+def _run_scenario(args: argparse.Namespace) -> int:
+    from trajkit.scenario import run
+
+    outcome = run(args.scenario, args.out)
+    for path in outcome.files:
+        print(f"wrote {path}")
+    return 0
 
 
 def _demo(args: argparse.Namespace) -> int:

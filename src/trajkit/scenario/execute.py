@@ -1,0 +1,289 @@
+"""Carrying out a scenario: plan, check, optionally simulate, and write every output.
+
+Files are written all together or not at all (staged, then renamed); a ROS 2 bag,
+a folder, is renamed into place after them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import trajkit as tk
+from trajkit import mobile
+from trajkit.io.atomic import StagedFiles, staged_files
+from trajkit.kinematics import UR5, DHRow, Planar2R, RRBot, SerialChain, Spatial3R, from_urdf
+from trajkit.scenario.parse import Scenario
+from trajkit.scenario.reader import ScenarioError
+from trajkit.trajectory import Trajectory
+
+__all__ = ["Outcome", "execute", "robot_of"]
+
+Log = Callable[[str], None]
+#: Sampling period of CSV files when the scenario sets no controller period (s).
+SAMPLE_PERIOD = 0.01
+PLANNERS = {"cubic": tk.cubic, "quintic": tk.quintic, "septic": tk.septic,
+            "trapezoid": tk.trapezoidal, "scurve": tk.scurve}  # fmt: skip
+ARM_BUILDERS: dict[str, Callable[[], SerialChain]] = {
+    "rrbot": RRBot,
+    "ur5": UR5,
+    "arm3": lambda: Spatial3R(0.05, 0.10, 0.08, 0.12),  # the course's arm, in metres
+    "planar2r": lambda: Planar2R(1.0, 0.8),
+}
+BASES = {"jackal": mobile.jackal, "unicycle": mobile.Unicycle}
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What a scenario run produced.
+
+    Attributes
+    ----------
+    plan : Trajectory or MobileTrajectory
+    report : trajkit.Report
+        The limit check of the plan.
+    log : object or None
+        The simulation log, when the scenario simulates.
+    files : list of Path
+        Every file and folder written.
+    lines : list of str
+        The summary printed and saved.
+    """
+
+    plan: Any
+    report: Any
+    log: Any
+    files: list[Path]
+    lines: list[str]
+
+
+def robot_of(scenario: Scenario) -> Any:
+    """The robot a scenario describes: a SerialChain, or a wheeled model."""
+    robot = scenario.robot
+    if "builtin" in robot:
+        name = robot["builtin"]
+        return (BASES[name] if scenario.mobile else ARM_BUILDERS[name])()
+    if "dh" in robot:
+        rows = [DHRow(r["a"], r["alpha"], r["d"], r["theta"], r["kind"], r["lower"], r["upper"])
+                for r in robot["dh"]]  # fmt: skip
+        return SerialChain.from_dh(rows, convention=robot["convention"], name=scenario.name)
+    return from_urdf(robot["urdf"], base_link=robot["base_link"], tip_link=robot["tip_link"])
+
+
+def execute(scenario: Scenario, out: str | Path, log: Log = print) -> Outcome:
+    """Run ``scenario`` and write its outputs into the folder ``out`` (created if needed).
+
+    Raises
+    ------
+    ScenarioError
+        When the scenario's parts do not fit together (a joint count, a missing limit).
+    TrajkitError
+        When planning or simulating fails (the message says why).
+    """
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    robot = robot_of(scenario)
+    lines = [f"scenario {scenario.name}" + (f": {scenario.description}" if scenario.description
+                                            else "")]  # fmt: skip
+    plan, extra = (_mobile_plan if scenario.mobile else _arm_plan)(scenario, robot, lines)
+    report = plan.check() if scenario.mobile else plan.check(_arm_limits(scenario))
+    lines.append(f"  limit check: {'OK' if report.ok else 'FAILED'}")
+    lines += [f"    {violation}" for violation in report.violations]
+    run = _simulate(scenario, robot, plan, extra, lines)
+    stem = folder / scenario.name
+    with staged_files() as stage:
+        _write(scenario, robot, plan, run, extra, stem, stage)
+        summary = stage.path(stem.with_name(f"{scenario.name}_summary.txt"))
+        summary.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    files = list(stage.targets)
+    if scenario.outputs["ros2_bag"]:
+        from trajkit.io.ros2 import write_bag
+
+        names = None if scenario.mobile else robot.names
+        files.append(write_bag(stem.with_name(f"{scenario.name}_bag"), plan, joint_names=names,
+                               storage=scenario.outputs["storage"]))  # fmt: skip
+    for line in lines:
+        log(line)
+    return Outcome(plan, report, run, files, lines)
+
+
+def _arm_limits(scenario: Scenario) -> tk.Limits:
+    limits = scenario.limits
+    return tk.Limits(velocity=limits.get("velocity"), acceleration=limits.get("acceleration"),
+                     jerk=limits.get("jerk"))  # fmt: skip
+
+
+def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple[Trajectory, Any]:
+    task, limits = scenario.task, scenario.limits
+    kind = task["kind"]
+    extra = None
+    if kind == "joint_move":
+        if task["q0"].size != robot.ndof:
+            raise ScenarioError(f"task.q0: expected {robot.ndof} numbers for {robot.name}, got "
+                                f"{task['q0'].size}")  # fmt: skip
+        profile = task["profile"]
+        kwargs: dict[str, Any] = {"duration": task["duration"], "v0": task["v0"],
+                                  "vf": task["vf"]}  # fmt: skip
+        needs = {"trapezoid": ("velocity", "acceleration"),
+                 "scurve": ("velocity", "acceleration", "jerk")}.get(profile, ())  # fmt: skip
+        missing = [key for key in needs if key not in limits]
+        if missing:
+            raise ScenarioError(f"limits.{missing[0]}: required by the {profile} profile")
+        if profile in ("trapezoid", "scurve"):
+            kwargs |= {"sync": None if task["sync"] == "none" else task["sync"],
+                       "dt": scenario.period}  # fmt: skip
+            args = [limits[key] for key in needs]
+            plan = PLANNERS[profile](task["q0"], task["qf"], *args, **kwargs)
+        else:
+            if profile != "cubic":
+                kwargs["a0"] = kwargs["af"] = 0.0
+            kwargs |= {"vmax": limits.get("velocity"), "amax": limits.get("acceleration"),
+                       "jmax": limits.get("jerk")}  # fmt: skip
+            plan = PLANNERS[profile](task["q0"], task["qf"], **kwargs)
+        lines.append(f"  {profile} joint move on {robot.name}: {plan.duration:.9g} s")
+    elif kind == "waypoints":
+        points = task["points"]
+        if points.shape[1] != robot.ndof:
+            raise ScenarioError(f"task.points[0]: expected {robot.ndof} numbers for "
+                                f"{robot.name}, got {points.shape[1]}")  # fmt: skip
+        for key in ("velocity", "acceleration"):
+            if key not in limits:
+                raise ScenarioError(f"limits.{key}: required by a waypoints task")
+        plan = tk.blended(points, limits["velocity"], limits["acceleration"],
+                          jmax=limits.get("jerk"), durations=task["durations"],
+                          through=task["through"])  # fmt: skip
+        lines.append(f"  blended move through {points.shape[0]} waypoints: {plan.duration:.9g} s")
+    else:
+        from trajkit.taskspace import Line, timed, to_joint_space
+
+        motion = timed(Line(task["start"], task["end"]), task["law"], duration=task["duration"])
+        mapped = to_joint_space(robot, motion, dt=task["dt"])
+        plan, extra = mapped.trajectory, motion
+        lines.append(
+            f"  {task['law']} line on {robot.name} in {task['duration']:g} s: path error "
+            f"{mapped.path_error:.2g}; {'OK' if mapped.ok else mapped.problems()}"
+        )
+    if plan.info.get("phase_times") is not None and kind == "joint_move":
+        lines.append(f"  phase times: {np.round(plan.info['phase_times'], 9).tolist()}")
+    return plan, extra
+
+
+def _mobile_limits(scenario: Scenario, model: Any) -> Any:
+    return model.limits.replace(**scenario.limits)
+
+
+def _mobile_plan(scenario: Scenario, model: Any, lines: list[str]) -> tuple[Any, Any]:
+    task = scenario.task
+    limits = _mobile_limits(scenario, model)
+    kind = task["kind"]
+    if kind == "twist":
+        plan = mobile.constant_twist(task["v"], task["omega"], task["duration"],
+                                     rate_hz=task["rate_hz"], model=model)  # fmt: skip
+    elif kind == "goto":
+        plan = mobile.rotate_translate_rotate(
+            tuple(task["goal"]), tuple(task["start"]), limits=limits, profile=task["profile"],
+            blend_ratio=task["blend_ratio"], reverse=task["reverse"], dt=scenario.period,
+            model=model,
+        )  # fmt: skip
+    else:
+        curve = mobile.FigureEight(task["width"], task["height"], task["period"])
+        timing = "within_limits" if task["fit"] else "as_given"
+        plan = mobile.flat_trajectory(curve, model=model, limits=limits, timing=timing)
+    from trajkit.cli_mobile import describe
+
+    lines += ["  " + line for line in describe(plan).splitlines()[:1]]
+    for name, duration in zip(plan.info.get("phases", ()), plan.info.get("phase_durations", ()),
+                              strict=True):  # fmt: skip
+        lines.append(f"    {name}: {duration:.9g} s")
+    return plan, None
+
+
+def _simulate(scenario: Scenario, robot: Any, plan: Any, extra: Any, lines: list[str]) -> Any:
+    engine, rate = scenario.simulation["engine"], scenario.simulation.get("rate_hz")
+    task = scenario.task
+    if scenario.mobile:
+        from trajkit.mobile.control import controller_named
+
+        controller = controller_named(task.get("controller", "feedforward"))
+        offset = np.asarray(task.get("offset", (0.0, 0.0, 0.0)), dtype=float)
+        start = plan.start_pose + np.array([offset[0], offset[1], np.radians(offset[2])])
+        if engine == "mujoco":
+            from trajkit import sim
+
+            if not isinstance(robot, mobile.DiffDrive):
+                raise ScenarioError("simulation.engine: mujoco needs a wheeled robot (jackal)")
+            rate = rate or task.get("rate_hz")
+            run = sim.run(sim.MobileScene(robot), plan, control_rate_hz=rate,
+                          controller=controller, initial_pose=start)  # fmt: skip
+        elif task["kind"] == "figure8" or rate is not None:
+            run = mobile.simulate(plan, controller, dt=0.01, initial_pose=start,
+                                  command_rate_hz=rate)  # fmt: skip
+        else:
+            return None
+        lines.append(f"  simulated ({engine}): {run.summary()}")
+        return run
+    if engine == "kinematic":
+        return None
+    from trajkit import sim
+
+    presets = {"rrbot": sim.rrbot_scene, "ur5": sim.ur5_scene}
+    builtin = scenario.robot.get("builtin")
+    scene = presets[builtin]() if builtin in presets else sim.arm_scene(robot)
+    run = sim.run(scene, plan, control_rate_hz=rate, controller=scenario.simulation["controller"])
+    lines += ["  simulated in MuJoCo, " + line for line in run.summary().splitlines()[:1]]
+    lines += ["  " + line for line in run.summary().splitlines()[1:]]
+    return run
+
+
+def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem: Path,
+           stage: StagedFiles) -> None:  # fmt: skip
+    outputs = scenario.outputs
+    name = stem.name
+
+    def at(suffix: str) -> Path:
+        return stage.path(stem.with_name(f"{name}{suffix}"))
+
+    if scenario.mobile:
+        if outputs["csv"]:
+            if run is None:
+                plan.to_csv(at(".csv"), scenario.period or SAMPLE_PERIOD)
+            else:
+                run.to_csv(at(".csv"))
+        if outputs["plot"]:
+            data = plan if run is None else run
+            tk.plot.save(tk.plot.mobile(data, title=name), at(".png"))
+            tk.plot.save(tk.plot.mobile_path(data, title=name), at("_path.png"))
+        if outputs["animation"] != "none":
+            from trajkit import animate
+
+            animate.mobile(plan if run is None else run, at(f".{outputs['animation']}"),
+                           title=name, progress=False, fps=outputs["animation_fps"],
+                           speed=outputs["animation_speed"], size=4.0)  # fmt: skip
+        return
+    if outputs["csv"]:
+        plan.sample(scenario.period or SAMPLE_PERIOD).to_csv(at(".csv"))
+    if outputs["plot"]:
+        figure = tk.plot.profiles(plan, _arm_limits(scenario), names=robot.names, title=name)
+        tk.plot.save(figure, at(".png"))
+        if extra is not None:
+            tk.plot.save(tk.plot.task_space(extra, title=f"{name}: task space"), at("_task.png"))
+    if run is not None:
+        run.to_csv(at("_sim.csv"))
+        tk.plot.save(tk.plot.tracking(run, title=f"{name} in MuJoCo"), at("_sim.png"))
+    if outputs["animation"] != "none":
+        from trajkit import animate
+
+        animate.arm(
+            robot,
+            plan,
+            at(f".{outputs['animation']}"),
+            title=name,
+            progress=False,
+            fps=outputs["animation_fps"],
+            speed=outputs["animation_speed"],
+            size=4.0,
+        )

@@ -1,0 +1,258 @@
+"""Scenario files: what a TOML scenario says, parsed into plain objects.
+
+A scenario names the robot, the task, the limits, the controller period, the
+simulation and the outputs; see ``examples/`` and the README for the format.
+Parsing never runs code from the file and refuses unknown keys; every error is a
+:class:`~trajkit.scenario.reader.ScenarioError` naming the key path.
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from trajkit.scenario.reader import ScenarioError, Table
+
+__all__ = ["ARM_ROBOTS", "MOBILE_ROBOTS", "TASKS", "Scenario", "from_data", "load", "parse"]
+
+ARM_ROBOTS = ("rrbot", "ur5", "arm3", "planar2r")
+MOBILE_ROBOTS = ("jackal", "unicycle")
+ARM_TASKS = ("joint_move", "waypoints", "line")
+MOBILE_TASKS = ("twist", "goto", "figure8")
+TASKS = ARM_TASKS + MOBILE_TASKS
+PROFILES = ("cubic", "quintic", "septic", "trapezoid", "scurve")
+ANIMATIONS = ("none", "gif", "mp4")
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A parsed scenario: each section as a dictionary of checked values.
+
+    Attributes
+    ----------
+    name, description : str
+    robot : dict
+        ``builtin`` (a name), or ``dh`` (rows) with ``convention``, or ``urdf`` (a path
+        resolved against the scenario's folder).
+    task : dict
+        ``kind`` and its parameters, angles in radians.
+    limits : dict
+        Arm: velocity, acceleration, jerk (per joint); base: velocity,
+        angular_velocity, acceleration, angular_acceleration.
+    period : float or None
+        The controller period (s): switching times on its multiples, sampling.
+    simulation : dict
+        ``engine`` (kinematic or mujoco), ``controller``, ``rate_hz``.
+    outputs : dict
+        ``csv``, ``plot``, ``animation`` (none, gif or mp4) with ``animation_fps``
+        and ``animation_speed``, ``ros2_bag``, ``storage`` (mcap or sqlite3).
+    source : Path or None
+        The file it was read from.
+    """
+
+    name: str
+    description: str
+    robot: dict[str, Any]
+    task: dict[str, Any]
+    limits: dict[str, Any]
+    period: float | None
+    simulation: dict[str, Any]
+    outputs: dict[str, Any]
+    source: Path | None = field(default=None, compare=False)
+
+    @property
+    def mobile(self) -> bool:
+        """True for a wheeled robot's scenario."""
+        return self.task["kind"] in MOBILE_TASKS
+
+
+def load(path: str | os.PathLike[str]) -> Scenario:
+    """Read and check a scenario file.
+
+    Raises
+    ------
+    ScenarioError
+        For a file that is not valid TOML or breaks the format (the message names
+        the key path); ``OSError`` if it cannot be read.
+    """
+    source = Path(path)
+    try:
+        text = source.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{source.name}: not UTF-8 text ({exc.reason})") from None
+    return parse(text, folder=source.parent, source=source)
+
+
+def parse(text: str, *, folder: Path | None = None, source: Path | None = None) -> Scenario:
+    """Parse scenario text; relative file names are taken from ``folder``."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"not valid TOML: {exc}") from None
+    return from_data(data, folder=folder, source=source)
+
+
+def from_data(
+    data: dict[str, Any], *, folder: Path | None = None, source: Path | None = None
+) -> Scenario:
+    """Check a scenario already read from TOML (a dictionary of its tables)."""
+    root = Table(data, "")
+    name = root.string("name")
+    if not name.replace("_", "").replace("-", "").isalnum():
+        raise ScenarioError(f"name: expected letters, digits, '_' or '-' (it names files), "
+                            f"got {name!r}")  # fmt: skip
+    description = root.string("description", "")
+    task_table = root.table("task", required=True)
+    kind = task_table.string("kind", choices=TASKS)
+    robot = _robot(root.table("robot", required=True), kind, folder or Path("."))
+    task = _task(task_table, kind)
+    limits = _limits(root.table("limits"), kind in MOBILE_TASKS)
+    controller = root.table("controller")
+    period = None
+    if controller is not None:
+        period = controller.number("period", None, positive=True)
+        controller.done()
+    simulation = _simulation(root.table("simulation"), kind in MOBILE_TASKS)
+    outputs = _outputs(root.table("outputs"))
+    root.done()
+    return Scenario(name, description, robot, task, limits, period, simulation, outputs, source)
+
+
+def _robot(table: Table, kind: str, folder: Path) -> dict[str, Any]:
+    mobile = kind in MOBILE_TASKS
+    given = [key for key in ("builtin", "dh", "urdf") if table.has(key)]
+    if len(given) != 1:
+        raise ScenarioError(f"{table.path}: give exactly one of builtin, dh or urdf, got "
+                            f"{', '.join(given) or 'none'}")  # fmt: skip
+    robot: dict[str, Any]
+    if given == ["builtin"]:
+        choices = MOBILE_ROBOTS if mobile else ARM_ROBOTS
+        robot = {"builtin": table.string("builtin", choices=choices)}
+    elif mobile:
+        raise ScenarioError(f"{table.where(given[0])}: a {kind} task needs a wheeled builtin "
+                            f"robot ({', '.join(MOBILE_ROBOTS)})")  # fmt: skip
+    elif given == ["dh"]:
+        rows = []
+        for row in table.tables("dh"):
+            rows.append({
+                "a": row.number("a", 0.0),
+                "alpha": row.number("alpha", 0.0, angles=True),
+                "d": row.number("d", 0.0),
+                "theta": row.number("theta", 0.0, angles=True),
+                "kind": row.string("kind", "revolute", choices=("revolute", "prismatic")),
+                "lower": row.number("lower", float("-inf"), angles=True),
+                "upper": row.number("upper", float("inf"), angles=True),
+            })  # fmt: skip
+            row.done()
+        conventions = ("standard", "modified")
+        robot = {"dh": rows, "convention": table.string("convention", "standard",
+                                                        choices=conventions)}  # fmt: skip
+    else:
+        urdf = table.string("urdf")
+        robot = {
+            "urdf": (folder / urdf).resolve(),
+            "base_link": table.string("base_link", None),
+            "tip_link": table.string("tip_link", None),
+        }
+    table.done()
+    return robot
+
+
+def _task(table: Table, kind: str) -> dict[str, Any]:
+    task: dict[str, Any] = {"kind": kind}
+    if kind == "joint_move":
+        task["q0"] = table.numbers("q0", angles=True)
+        task["qf"] = table.numbers("qf", count=task["q0"].size, angles=True)
+        task["profile"] = table.string("profile", "cubic", choices=PROFILES)
+        task["duration"] = table.number("duration", None, positive=True)
+        task["sync"] = table.string("sync", "time", choices=("time", "phase", "none"))
+        task["v0"] = table.numbers("v0", 0.0, count=task["q0"].size, angles=True, scalar_ok=True)
+        task["vf"] = table.numbers("vf", 0.0, count=task["q0"].size, angles=True, scalar_ok=True)
+    elif kind == "waypoints":
+        task["points"] = table.matrix("points", angles=True, minimum_rows=2)
+        task["through"] = table.boolean("through", False)
+        task["durations"] = table.numbers("durations", None, count=task["points"].shape[0] - 1,
+                                          positive=True)  # fmt: skip
+    elif kind == "line":
+        task["start"] = table.numbers("start", count=3)
+        task["end"] = table.numbers("end", count=3)
+        task["duration"] = table.number("duration", positive=True)
+        task["law"] = table.string("law", "cubic", choices=("cubic", "quintic", "septic"))
+        task["dt"] = table.number("dt", 0.01, positive=True)
+    elif kind == "twist":
+        task["v"] = table.number("v")
+        task["omega"] = table.number("omega", angles=True)
+        task["duration"] = table.number("duration", positive=True)
+        task["rate_hz"] = table.number("rate_hz", None, positive=True)
+    elif kind == "goto":
+        task["goal"] = table.numbers("goal")
+        if task["goal"].size not in (2, 3):
+            raise ScenarioError(f"{table.where('goal')}: expected 2 or 3 numbers (x, y[, theta "
+                                f"in rad]), got {task['goal'].size}")  # fmt: skip
+        task["start"] = table.numbers("start", (0.0, 0.0, 0.0), count=3)
+        task["profile"] = table.string("profile", "trapezoid", choices=("trapezoid", "scurve"))
+        task["blend_ratio"] = table.number("blend_ratio", None, positive=True)
+        task["reverse"] = table.boolean("reverse", False)
+    else:  # figure8
+        task["width"] = table.number("width", 2.0, positive=True)
+        task["height"] = table.number("height", 1.0, positive=True)
+        task["period"] = table.number("period", 20.0, positive=True)
+        task["controller"] = table.string(
+            "controller", "feedforward",
+            choices=("feedforward", "kanayama", "linearization", "pure-pursuit"),
+        )  # fmt: skip
+        task["offset"] = table.numbers("offset", (0.0, 0.0, 0.0), count=3)
+        task["fit"] = table.boolean("fit", False)
+    table.done()
+    return task
+
+
+def _limits(table: Table | None, mobile: bool) -> dict[str, Any]:
+    if table is None:
+        return {}
+    keys = ("velocity", "angular_velocity", "acceleration", "angular_acceleration") if mobile \
+        else ("velocity", "acceleration", "jerk")  # fmt: skip
+    limits = {}
+    for key in keys:
+        if table.has(key):
+            angular = not mobile or key.startswith("angular")
+            limits[key] = (table.number(key, angles=angular, positive=True) if mobile
+                           else table.numbers(key, angles=angular, scalar_ok=True,
+                                              positive=True))  # fmt: skip
+    table.done()
+    return limits
+
+
+def _simulation(table: Table | None, mobile: bool) -> dict[str, Any]:
+    if table is None:
+        return {"engine": "kinematic"}
+    arm_controllers = ("position", "velocity", "pd_feedforward", "computed_torque")
+    simulation = {
+        "engine": table.string("engine", "kinematic", choices=("kinematic", "mujoco")),
+        "rate_hz": table.number("rate_hz", None, positive=True),
+    }
+    if not mobile:
+        simulation["controller"] = table.string("controller", "position", choices=arm_controllers)
+    table.done()
+    return simulation
+
+
+def _outputs(table: Table | None) -> dict[str, Any]:
+    defaults = {"csv": True, "plot": True, "animation": "none", "animation_fps": 10.0,
+                "animation_speed": 1.0, "ros2_bag": False, "storage": "mcap"}  # fmt: skip
+    if table is None:
+        return defaults
+    outputs = {
+        "csv": table.boolean("csv", True),
+        "plot": table.boolean("plot", True),
+        "animation": table.string("animation", "none", choices=ANIMATIONS),
+        "animation_fps": table.number("animation_fps", 10.0, positive=True),
+        "animation_speed": table.number("animation_speed", 1.0, positive=True),
+        "ros2_bag": table.boolean("ros2_bag", False),
+        "storage": table.string("storage", "mcap", choices=("mcap", "sqlite3")),
+    }
+    table.done()
+    return outputs

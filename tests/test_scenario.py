@@ -1,0 +1,262 @@
+"""Scenario files: every example runs; strict parsing with key paths; fuzzing; the CLI."""
+
+from __future__ import annotations
+
+import copy
+import math
+import os
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import trajkit as tk
+from trajkit import scenario
+from trajkit.cli import main
+from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.scenario import ScenarioError
+from trajkit.scenario.parse import from_data
+
+EXAMPLES = sorted((Path(__file__).parent.parent / "examples").glob("*.toml"))
+
+ARM = """
+name = "arm"
+[robot]
+builtin = "rrbot"
+[task]
+kind = "joint_move"
+q0_deg = [0, 0]
+qf_deg = [67, -45]
+[limits]
+velocity_deg = [9, 11]
+"""
+
+
+def needs_mujoco(path: Path) -> bool:
+    return 'engine = "mujoco"' in path.read_text(encoding="utf-8")
+
+
+def test_there_is_an_example_per_coursework_task():
+    names = {path.stem for path in EXAMPLES}
+    for expected in ("seed000_rrbot_cubic", "seed000_jackal_twist", "seed000_jackal_goto",
+                     "seed001_six_joint_trapezoid", "seed001_via_points", "seed002_figure8",
+                     "seed003_arm3_line"):  # fmt: skip
+        assert expected in names
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[path.stem for path in EXAMPLES])
+def test_every_example_runs_and_writes_its_outputs(path, tmp_path):
+    if needs_mujoco(path):
+        pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
+    spec = scenario.load(path)
+    lines: list[str] = []
+    outcome = scenario.run(path, tmp_path, log=lines.append)
+    assert outcome.report.ok
+    assert lines == outcome.lines and lines[0].startswith(f"scenario {spec.name}")
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == sorted(p.name for p in outcome.files)
+    assert f"{spec.name}_summary.txt" in names
+    assert (tmp_path / f"{spec.name}_summary.txt").read_text(encoding="utf-8") == "\n".join(
+        lines
+    ) + "\n"
+    if spec.outputs["csv"]:
+        assert f"{spec.name}.csv" in names
+    if spec.outputs["plot"]:
+        assert f"{spec.name}.png" in names
+    if spec.outputs["animation"] != "none":
+        assert f"{spec.name}.{spec.outputs['animation']}" in names
+    if spec.outputs["ros2_bag"]:
+        assert (tmp_path / f"{spec.name}_bag" / "metadata.yaml").is_file()
+    if spec.simulation["engine"] == "mujoco" and not spec.mobile:
+        assert f"{spec.name}_sim.png" in names and f"{spec.name}_sim.csv" in names
+    assert not [name for name in names if name.startswith(".")]  # no temporaries
+
+
+def test_examples_reproduce_the_coursework_figures(tmp_path):
+    folder = Path(__file__).parent.parent / "examples"
+    trapezoid = scenario.run(folder / "seed001_six_joint_trapezoid.toml", tmp_path, log=len)
+    assert trapezoid.plan.duration == pytest.approx(14.608, abs=1e-12)
+    line = scenario.run(folder / "seed003_arm3_line.toml", tmp_path, log=len)
+    assert "path error" in line.lines[1] and line.report.ok
+    goto = scenario.load(folder / "seed000_jackal_goto.toml")
+    plan = scenario.execute(
+        scenario.Scenario(**{**goto.__dict__, "simulation": {"engine": "kinematic"},
+                             "outputs": {**goto.outputs, "animation": "none"}}),
+        tmp_path, log=len,
+    ).plan  # fmt: skip
+    np.testing.assert_allclose(plan.info["phase_durations"], [1.1468058, 32.3941772, 2.03629306],
+                               rtol=1e-8)  # fmt: skip
+
+
+def test_degrees_are_converted_exactly():
+    spec = scenario.parse(ARM.replace("qf_deg = [67, -45]", "qf_deg = [180, -90]"))
+    np.testing.assert_array_equal(spec.task["qf"], [math.pi, -math.pi / 2])
+    np.testing.assert_array_equal(spec.limits["velocity"], np.radians([9, 11]))
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (("qf_deg = [67, -45]", "qf_deg = [67, -45, 3]"), "task.qf_deg: expected 2 numbers, got 3"),
+        (("[limits]", "[limits]\nvelocty = 1"), "limits.velocty: unknown key"),
+        (('name = "arm"', 'name = "arm"\ncolour = "red"'), "colour: unknown key"),
+        (("q0_deg = [0, 0]", "q0_deg = [0, 0]\nq0 = [0, 0]"), "task.q0: give q0 or q0_deg"),
+        (('kind = "joint_move"', 'kind = "joint_move"\nduration = "ten"'),
+         "task.duration: expected a finite number, got 'ten'"),
+        (('kind = "joint_move"', 'kind = "joint_move"\nduration = -1'),
+         "task.duration: expected a number > 0, got -1"),
+        (('kind = "joint_move"', 'kind = "joint_move"\nduration = nan'),
+         "task.duration: expected a finite number, got nan"),
+        (('kind = "joint_move"', 'kind = "joint_move"\nprofile = "linear"'),
+         "task.profile: expected one of 'cubic', 'quintic', 'septic', 'trapezoid', 'scurve'"),
+        (('kind = "joint_move"', 'kind = "fly"'), "task.kind: expected one of"),
+        (('builtin = "rrbot"', 'builtin = "jackal"'),
+         "robot.builtin: expected one of 'rrbot', 'ur5', 'arm3', 'planar2r', got 'jackal'"),
+        (('builtin = "rrbot"', ""), "robot: give exactly one of builtin, dh or urdf, got none"),
+        (('name = "arm"', 'name = "../arm"'), "name: expected letters, digits"),
+        (("velocity_deg = [9, 11]", "velocity_deg = [9, true]"),
+         "limits.velocity_deg[1]: expected a finite number, got True"),
+        (("velocity_deg = [9, 11]", "velocity_deg = [9, -1]"),
+         "limits.velocity_deg[1]: expected a number > 0, got -1"),
+        (("[limits]", "[simulation]\nengine = 'bullet'\n[limits]"),
+         "simulation.engine: expected one of 'kinematic', 'mujoco', got 'bullet'"),
+        (("[limits]", "[outputs]\nanimation = true\n[limits]"),
+         "outputs.animation: expected a string, got a boolean"),
+        (("[limits]", "[controller]\nperiod = 0\n[limits]"),
+         "controller.period: expected a number > 0, got 0"),
+        (("q0_deg = [0, 0]", 'q0_deg = "__import__(\'os\').system(\'false\')"'),
+         "task.q0_deg: expected a list of numbers, got a string"),
+        (("[task]", "[taskk]\n[task]"), "taskk: unknown key"),
+        (("[task]", "[task]\n[task]"), "not valid TOML"),
+    ],
+)  # fmt: skip
+def test_errors_name_the_key_path_and_the_rule(change, message):
+    text = ARM.replace(*change)
+    with pytest.raises(ScenarioError) as caught:
+        scenario.parse(text)
+    assert message in str(caught.value)
+    assert isinstance(caught.value, InvalidInputError)
+
+
+def test_waypoint_rows_are_checked_one_by_one():
+    text = ARM.replace('kind = "joint_move"\nq0_deg = [0, 0]\nqf_deg = [67, -45]',
+                       'kind = "waypoints"\npoints = [[0, 0], [1, 1], [2]]')  # fmt: skip
+    with pytest.raises(ScenarioError, match=r"task.points\[2\]: expected 2 numbers, got 1"):
+        scenario.parse(text)
+
+
+def test_dh_rows_and_missing_tables():
+    text = ARM.replace('builtin = "rrbot"', "[[robot.dh]]\na = 0.3\nspeed = 1\n")
+    with pytest.raises(ScenarioError, match=r"robot.dh\[0\].speed: unknown key"):
+        scenario.parse(text)
+    with pytest.raises(ScenarioError, match="task: required table is missing"):
+        scenario.parse('name = "x"\n[robot]\nbuiltin = "rrbot"\n')
+
+
+def test_parts_that_do_not_fit_are_named(tmp_path):
+    wrong_count = scenario.parse(ARM.replace('builtin = "rrbot"', 'builtin = "ur5"'))
+    with pytest.raises(ScenarioError, match=r"task\.q0: expected 6 numbers for UR5, got 2"):
+        scenario.execute(wrong_count, tmp_path, log=len)
+    trapezoid = scenario.parse(ARM.replace("[limits]", "[limits]").replace(
+        "qf_deg = [67, -45]", 'qf_deg = [67, -45]\nprofile = "trapezoid"'))  # fmt: skip
+    with pytest.raises(ScenarioError, match=r"limits\.acceleration: required by the trapezoid"):
+        scenario.execute(trapezoid, tmp_path, log=len)
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_failing_plan_writes_nothing(tmp_path):
+    text = ARM.replace("qf_deg = [67, -45]", "qf_deg = [67, -45]\nduration = 1.0")
+    with pytest.raises(TrajkitError):
+        scenario.execute(scenario.parse(text), tmp_path, log=len)  # 1 s is below 11.17 s
+    assert os.listdir(tmp_path) == []
+
+
+# Fuzzing: malformed values anywhere only ever raise the documented error -------------
+VALUES = st.recursive(
+    st.none() | st.booleans() | st.integers(-10**6, 10**6) | st.text(max_size=8)
+    | st.floats(allow_nan=True, allow_infinity=True),
+    lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=6),
+                                                                       children, max_size=3),
+    max_leaves=8,
+)  # fmt: skip
+BASE = tomllib.loads(ARM)
+
+
+def _places(data, prefix=()):
+    for key, value in data.items():
+        yield (*prefix, key)
+        if isinstance(value, dict):
+            yield from _places(value, (*prefix, key))
+
+
+PLACES = list(_places(BASE))
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(place=st.sampled_from(PLACES), value=VALUES, extra=st.booleans())
+def test_fuzzed_scenarios_raise_only_the_documented_error(place, value, extra):
+    data = copy.deepcopy(BASE)
+    target = data
+    for key in place[:-1]:
+        target = target[key]
+    if value is None:
+        del target[place[-1]]
+    elif extra:
+        target[f"{place[-1]}_x"] = value
+    else:
+        target[place[-1]] = value
+    try:
+        spec = from_data(data)
+    except ScenarioError:
+        return
+    assert spec.name and spec.task["kind"]
+
+
+@settings(max_examples=100, deadline=None)
+@given(text=st.text(max_size=200))
+def test_fuzzed_text_raises_only_the_documented_error(text):
+    try:
+        scenario.parse(text)
+    except ScenarioError:
+        pass
+
+
+# Command line --------------------------------------------------------------------------
+def test_trajkit_run_writes_and_lists_the_outputs(tmp_path, capsys):
+    path = tmp_path / "arm.toml"
+    path.write_text(ARM, encoding="utf-8")
+    status = main(["run", str(path), "--out", str(tmp_path / "out")])
+    captured = capsys.readouterr()
+    assert status == 0, captured.err
+    assert (
+        "scenario arm" in captured.out and "cubic joint move on RRBot: 11.1666667 s" in captured.out
+    )
+    assert f"wrote {tmp_path / 'out' / 'arm.csv'}" in captured.out
+    assert tk.Samples.from_csv(tmp_path / "out" / "arm.csv").t[-1] == pytest.approx(11.1666666667)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (ARM.replace("[limits]", "[limits]\nvelocty = 1"), "limits.velocty: unknown key"),
+        ("name = [", "not valid TOML"),
+    ],
+)
+def test_trajkit_run_errors_are_one_line(tmp_path, capsys, text, message):
+    path = tmp_path / "bad.toml"
+    path.write_text(text, encoding="utf-8")
+    status = main(["run", str(path), "--out", str(tmp_path / "out")])
+    captured = capsys.readouterr()
+    assert status == 2 and captured.out == ""
+    assert captured.err.startswith("trajkit: error: ") and message in captured.err
+    assert captured.err.count("\n") == 1
+    assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
+
+
+def test_trajkit_run_on_a_missing_file(tmp_path, capsys):
+    status = main(["run", str(tmp_path / "nope.toml")])
+    assert status == 2
+    assert "No such file" in capsys.readouterr().err
