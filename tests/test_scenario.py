@@ -43,7 +43,9 @@ def test_there_is_an_example_per_coursework_task():
     names = {path.stem for path in EXAMPLES}
     for expected in ("seed000_rrbot_cubic", "seed000_jackal_twist", "seed000_jackal_goto",
                      "seed001_six_joint_trapezoid", "seed001_via_points", "seed002_figure8",
-                     "seed003_arm3_line"):  # fmt: skip
+                     "seed003_arm3_line", "seed002_two_link_ellipse",
+                     "seed004_via_point_polynomials", "ur5_pose_path",
+                     "jerk_limited_waypoints"):  # fmt: skip
         assert expected in names
 
 
@@ -89,6 +91,30 @@ def test_examples_reproduce_the_coursework_figures(tmp_path):
     ).plan  # fmt: skip
     np.testing.assert_allclose(plan.info["phase_durations"], [1.1468058, 32.3941772, 2.03629306],
                                rtol=1e-8)  # fmt: skip
+
+
+def test_seed004_polynomial_is_the_lecture_solution(tmp_path):
+    folder = Path(__file__).parent.parent / "examples"
+    outcome = scenario.run(folder / "seed004_via_point_polynomials.toml", tmp_path, log=len)
+    expected = tk.polynomial(
+        [[(0, 0, 0.0), (0, 1, 0.0), (1, 0, 0.5)], [(1, 0, 0.5), (3, 0, 1.0), (3, 1, 0.0)]],
+        segments=[0, 1, 3], continuity=[(1, 2)],
+    )  # fmt: skip
+    np.testing.assert_array_equal(outcome.plan.coefficients, expected.coefficients)
+    assert "piece 1: a0..a3 = [0.0, 0.0, 0.875, -0.375]" in "\n".join(outcome.lines)
+
+
+def test_a_joint_task_needs_no_robot_unless_simulated_or_animated(tmp_path):
+    text = ARM.replace('[robot]\nbuiltin = "rrbot"\n', "")
+    assert scenario.parse(text).robot == {}
+    outcome = scenario.execute(scenario.parse(text), tmp_path, log=len)
+    assert outcome.report.ok
+    with pytest.raises(ScenarioError, match=r"outputs\.animation: animating needs a \[robot\]"):
+        scenario.parse(text + '[outputs]\nanimation = "gif"\n')
+    with pytest.raises(ScenarioError, match=r"simulation\.engine: simulating needs a \[robot\]"):
+        scenario.parse(text + '[simulation]\nengine = "mujoco"\n')
+    with pytest.raises(ScenarioError, match=r"robot: required table is missing"):
+        scenario.parse(text.replace('kind = "joint_move"', 'kind = "line"'))
 
 
 def test_degrees_are_converted_exactly():

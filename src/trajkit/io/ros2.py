@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import shutil
 import tempfile
 from collections.abc import Sequence
@@ -36,8 +37,11 @@ INSTALL_HINT = 'pip install "trajkit[ros]"'
 #: Pieces up to this degree are reproduced exactly by a controller's quintic
 #: interpolation between points that carry position, velocity and acceleration.
 _QUINTIC = 5
-#: Sampling period (s) of arm plans of higher degree.
+#: Sampling period (s) of arm plans that points at the breakpoints would not reproduce.
 _DENSE_PERIOD = 0.01
+#: The last time builtin_interfaces/Time can hold (its seconds are a signed 32-bit int).
+_LAST_STAMP = (2**31 - 1) * 1_000_000_000 + 999_999_999
+_NAME = re.compile(r"(/[A-Za-z][A-Za-z0-9_]*)+")
 
 
 class Ros2Unavailable(TrajkitError):
@@ -89,9 +93,10 @@ def write_bag(
         Arm plans: the joints' names (default ``joint1`` ...).
     dt : float, optional
         Arm plans: the spacing of the ``JointTrajectory`` points (s). Default: the
-        plan's breakpoints when its pieces are of degree 5 or less (a controller's
-        quintic interpolation of positions, velocities and accelerations then
-        reproduces the plan exactly), else every 10 ms. Mobile plans: the spacing of
+        plan's breakpoints when its pieces are of degree 5 or less and its
+        acceleration is continuous (a controller's quintic interpolation of
+        positions, velocities and accelerations then reproduces the plan exactly),
+        else every 10 ms. Points never share a nanosecond. Mobile plans: the spacing of
         the ``Path`` poses (default 0.1 s).
     stream : {"joint_state", "point"}, optional
         Arm plans: also a stream of ``sensor_msgs/JointState`` on ``/joint_states``
@@ -124,11 +129,19 @@ def write_bag(
     writer_class, plugins, types = _rosbags()
     if storage not in ("mcap", "sqlite3"):
         raise InvalidInputError(f"storage must be 'mcap' or 'sqlite3', got {storage!r}")
-    if not isinstance(start_ns, (int, np.integer)) or start_ns < 0:
+    if (not isinstance(start_ns, (int, np.integer)) or isinstance(start_ns, bool)
+            or start_ns < 0):  # fmt: skip
         raise InvalidInputError(f"start_ns must be a whole number >= 0, got {start_ns!r}")
-    if topic_prefix and (not topic_prefix.startswith("/") or topic_prefix.endswith("/")):
+    if not isinstance(topic_prefix, str) or (topic_prefix and not _NAME.fullmatch(topic_prefix)):
         raise InvalidInputError(
-            f"topic_prefix must start with '/' and not end with one, got {topic_prefix!r}"
+            "topic_prefix must be a ROS name such as '/robot1' (a '/' before each part of "
+            f"letters, digits and '_', starting with a letter), got {topic_prefix!r}"
+        )
+    end_ns = start_ns + int(np.ceil(plan.duration * 1e9)) if hasattr(plan, "duration") else 0
+    if end_ns > _LAST_STAMP:
+        raise InvalidInputError(
+            f"start_ns {start_ns} puts the plan past ROS time's last second (2**31 - 1 s: "
+            "builtin_interfaces/Time counts seconds in 32 bits)"
         )
     if isinstance(plan, Trajectory):
         messages = _arm_messages(types, plan, joint_names, dt, stream, rate_hz, int(start_ns))
@@ -154,7 +167,9 @@ def _arm_messages(
     start_ns: int,
 ) -> list[tuple[str, str, int, Any]]:
     names = [f"joint{j + 1}" for j in range(plan.ndof)] if joint_names is None else joint_names
-    names = [str(name) for name in names]
+    if isinstance(names, str) or not all(isinstance(name, str) for name in names):
+        raise InvalidInputError(f"joint_names must be a list of names, got {joint_names!r}")
+    names = list(names)
     if len(names) != plan.ndof or len(set(names)) != len(names) or not all(names):
         raise InvalidInputError(
             f"joint_names must be {plan.ndof} distinct non-empty names, got {list(names)}"
@@ -163,12 +178,13 @@ def _arm_messages(
         raise InvalidInputError(f"stream must be 'joint_state' or 'point', got {stream!r}")
     if dt is not None:
         times = sample_times(plan.start_time, plan.end_time, positive_scalar("dt", dt, unit="s"))
-    elif plan.degree <= _QUINTIC:
+    elif plan.degree <= _QUINTIC and _continuous_acceleration(plan):
         times = plan.breakpoints
     else:
         times = sample_times(plan.start_time, plan.end_time, _DENSE_PERIOD)
     header = types.types["std_msgs/msg/Header"]
     point = types.types["trajectory_msgs/msg/JointTrajectoryPoint"]
+    times = _distinct(times, plan.start_time)
     states = [np.ascontiguousarray(plan.evaluate(times, order)) for order in range(3)]
     since = _nanoseconds(times - plan.start_time)
     points = [
@@ -187,7 +203,7 @@ def _arm_messages(
             raise InvalidInputError("rate_hz sets the stream's rate: pass stream= too")
         return messages
     rate = 100.0 if rate_hz is None else positive_scalar("rate_hz", rate_hz, unit="Hz")
-    ticks = sample_times(plan.start_time, plan.end_time, 1.0 / rate)
+    ticks = _distinct(sample_times(plan.start_time, plan.end_time, 1.0 / rate), plan.start_time)
     values = [np.ascontiguousarray(plan.evaluate(ticks, order)) for order in range(3)]
     stamps = start_ns + _nanoseconds(ticks - plan.start_time)
     for k, stamp in enumerate(stamps.tolist()):
@@ -204,6 +220,27 @@ def _arm_messages(
                             time_from_start=since_start)  # fmt: skip
             messages.append(("/joint_trajectory_point", message.__msgtype__, stamp, message))
     return messages
+
+
+def _continuous_acceleration(plan: Trajectory) -> bool:
+    """True when the acceleration has no jump at any interior breakpoint."""
+    inner = plan.breakpoints[1:-1]
+    if inner.size == 0:
+        return True
+    before = plan.evaluate(np.nextafter(inner, -np.inf), 2)
+    after = plan.evaluate(inner, 2)
+    scale = max(1.0, float(np.abs(after).max()))
+    return bool(np.abs(after - before).max() <= 1e-9 * scale)
+
+
+def _distinct(times: FloatArray, start: float) -> FloatArray:
+    """``times`` without those that round to the same nanosecond as the next one.
+
+    Controllers refuse points whose ``time_from_start`` does not strictly increase;
+    of a run of equal stamps the last (the plan's end, for one) is kept.
+    """
+    stamps = _nanoseconds(times - start)
+    return times[np.append(np.diff(stamps) > 0, True)]
 
 
 def _mobile_messages(
@@ -266,11 +303,16 @@ def _atomic_bag(
                     connections[topic] = writer.add_connection(prefix + topic, msgtype,
                                                                typestore=types)  # fmt: skip
                 writer.write(connections[topic], stamp, types.serialize_cdr(message, msgtype))
+        old = scratch / (target.name + ".old")
         if target.exists():
             # Swap the old bag out, the new one in, then drop the old one.
-            old = scratch / (target.name + ".old")
             os.replace(target, old)
-        os.replace(staged, target)
+        try:
+            os.replace(staged, target)
+        except BaseException:
+            if old.exists():
+                os.replace(old, target)  # the old bag stays where it was
+            raise
     finally:
         with contextlib.suppress(OSError):
             shutil.rmtree(scratch)

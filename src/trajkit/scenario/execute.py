@@ -62,8 +62,10 @@ class Outcome:
 
 
 def robot_of(scenario: Scenario) -> Any:
-    """The robot a scenario describes: a SerialChain, or a wheeled model."""
+    """The robot a scenario describes: a SerialChain, a wheeled model, or None."""
     robot = scenario.robot
+    if not robot:
+        return None
     if "builtin" in robot:
         name = robot["builtin"]
         return (BASES[name] if scenario.mobile else ARM_BUILDERS[name])()
@@ -103,7 +105,7 @@ def execute(scenario: Scenario, out: str | Path, log: Log = print) -> Outcome:
     if scenario.outputs["ros2_bag"]:
         from trajkit.io.ros2 import write_bag
 
-        names = None if scenario.mobile else robot.names
+        names = None if scenario.mobile or robot is None else robot.names
         files.append(write_bag(stem.with_name(f"{scenario.name}_bag"), plan, joint_names=names,
                                storage=scenario.outputs["storage"]))  # fmt: skip
     for line in lines:
@@ -122,7 +124,7 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
     kind = task["kind"]
     extra = None
     if kind == "joint_move":
-        if task["q0"].size != robot.ndof:
+        if robot is not None and task["q0"].size != robot.ndof:
             raise ScenarioError(f"task.q0: expected {robot.ndof} numbers for {robot.name}, got "
                                 f"{task['q0'].size}")  # fmt: skip
         profile = task["profile"]
@@ -144,10 +146,22 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
             kwargs |= {"vmax": limits.get("velocity"), "amax": limits.get("acceleration"),
                        "jmax": limits.get("jerk")}  # fmt: skip
             plan = PLANNERS[profile](task["q0"], task["qf"], **kwargs)
-        lines.append(f"  {profile} joint move on {robot.name}: {plan.duration:.9g} s")
+        on = f" on {robot.name}" if robot is not None else ""
+        lines.append(f"  {profile} joint move{on}: {plan.duration:.9g} s")
+    elif kind == "polynomial":
+        plan = tk.polynomial(task["conditions"], segments=task["times"],
+                             continuity=task["continuity"])  # fmt: skip
+        lines.append(
+            f"  polynomial through {len(task['conditions'])} segment(s), solved as A a = b"
+        )
+        for piece in range(len(task["conditions"])):
+            ascending = plan.absolute_coefficients()[::-1, piece, 0]
+            ascending[np.abs(ascending) < 1e-12 * np.abs(ascending).max()] = 0.0
+            lines.append(f"    piece {piece + 1}: a0..a{ascending.size - 1} = "
+                         f"{[float(f'{c:.6g}') for c in ascending + 0.0]}")  # fmt: skip
     elif kind == "waypoints":
         points = task["points"]
-        if points.shape[1] != robot.ndof:
+        if robot is not None and points.shape[1] != robot.ndof:
             raise ScenarioError(f"task.points[0]: expected {robot.ndof} numbers for "
                                 f"{robot.name}, got {points.shape[1]}")  # fmt: skip
         for key in ("velocity", "acceleration"):
@@ -158,13 +172,26 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
                           through=task["through"])  # fmt: skip
         lines.append(f"  blended move through {points.shape[0]} waypoints: {plan.duration:.9g} s")
     else:
-        from trajkit.taskspace import Line, timed, to_joint_space
+        from trajkit.rotations import homogeneous, rpy_matrix
+        from trajkit.taskspace import Ellipse, Line, through_poses, timed, to_joint_space
 
-        motion = timed(Line(task["start"], task["end"]), task["law"], duration=task["duration"])
-        mapped = to_joint_space(robot, motion, dt=task["dt"])
+        branch = None
+        if kind == "line":
+            motion = timed(Line(task["start"], task["end"]), task["law"], duration=task["duration"])
+            what = f"{task['law']} line"
+        elif kind == "ellipse":
+            path = Ellipse(task["center"], task["a"], task["b"])
+            motion = timed(path, task["law"], duration=task["duration"])
+            what, branch = f"{task['law']} ellipse", task["branch"]
+        else:
+            poses = np.stack([homogeneous(rpy_matrix(np.radians(row[3:])), row[:3])
+                              for row in task["poses"]])  # fmt: skip
+            motion = through_poses(poses, task["profile"], durations=task["durations"])
+            what = f"{task['profile']} moves through {len(poses)} poses"
+        mapped = to_joint_space(robot, motion, dt=task["dt"], branch=branch)
         plan, extra = mapped.trajectory, motion
         lines.append(
-            f"  {task['law']} line on {robot.name} in {task['duration']:g} s: path error "
+            f"  {what} on {robot.name} in {motion.duration:g} s: path error "
             f"{mapped.path_error:.2g}; {'OK' if mapped.ok else mapped.problems()}"
         )
     if plan.info.get("phase_times") is not None and kind == "joint_move":
@@ -267,7 +294,8 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
     if outputs["csv"]:
         plan.sample(scenario.period or SAMPLE_PERIOD).to_csv(at(".csv"))
     if outputs["plot"]:
-        figure = tk.plot.profiles(plan, _arm_limits(scenario), names=robot.names, title=name)
+        names = None if robot is None else robot.names
+        figure = tk.plot.profiles(plan, _arm_limits(scenario), names=names, title=name)
         tk.plot.save(figure, at(".png"))
         if extra is not None:
             tk.plot.save(tk.plot.task_space(extra, title=f"{name}: task space"), at("_task.png"))

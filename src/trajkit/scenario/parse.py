@@ -14,13 +14,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from trajkit.scenario.reader import ScenarioError, Table
 
 __all__ = ["ARM_ROBOTS", "MOBILE_ROBOTS", "TASKS", "Scenario", "from_data", "load", "parse"]
 
 ARM_ROBOTS = ("rrbot", "ur5", "arm3", "planar2r")
 MOBILE_ROBOTS = ("jackal", "unicycle")
-ARM_TASKS = ("joint_move", "waypoints", "line")
+ARM_TASKS = ("joint_move", "waypoints", "polynomial", "line", "ellipse", "poses")
+#: Tasks planned in joint space alone: they need no robot unless simulated or animated.
+JOINT_TASKS = ("joint_move", "waypoints", "polynomial")
 MOBILE_TASKS = ("twist", "goto", "figure8")
 TASKS = ARM_TASKS + MOBILE_TASKS
 PROFILES = ("cubic", "quintic", "septic", "trapezoid", "scurve")
@@ -36,7 +40,8 @@ class Scenario:
     name, description : str
     robot : dict
         ``builtin`` (a name), or ``dh`` (rows) with ``convention``, or ``urdf`` (a path
-        resolved against the scenario's folder).
+        resolved against the scenario's folder); empty for a joint-space task
+        without a robot.
     task : dict
         ``kind`` and its parameters, angles in radians.
     limits : dict
@@ -107,7 +112,8 @@ def from_data(
     description = root.string("description", "")
     task_table = root.table("task", required=True)
     kind = task_table.string("kind", choices=TASKS)
-    robot = _robot(root.table("robot", required=True), kind, folder or Path("."))
+    robot_table = root.table("robot", required=kind not in JOINT_TASKS)
+    robot = {} if robot_table is None else _robot(robot_table, kind, folder or Path("."))
     task = _task(task_table, kind)
     limits = _limits(root.table("limits"), kind in MOBILE_TASKS)
     controller = root.table("controller")
@@ -118,6 +124,11 @@ def from_data(
     simulation = _simulation(root.table("simulation"), kind in MOBILE_TASKS)
     outputs = _outputs(root.table("outputs"))
     root.done()
+    if not robot:
+        if outputs["animation"] != "none":
+            raise ScenarioError("outputs.animation: animating needs a [robot] table")
+        if simulation["engine"] == "mujoco":
+            raise ScenarioError("simulation.engine: simulating needs a [robot] table")
     return Scenario(name, description, robot, task, limits, period, simulation, outputs, source)
 
 
@@ -176,6 +187,44 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
         task["through"] = table.boolean("through", False)
         task["durations"] = table.numbers("durations", None, count=task["points"].shape[0] - 1,
                                           positive=True)  # fmt: skip
+    elif kind == "polynomial":
+        task["times"] = table.numbers("times")
+        if task["times"].size < 2 or np.any(np.diff(task["times"]) <= 0):
+            raise ScenarioError(f"{table.where('times')}: expected at least 2 increasing times")
+        segments = table.tables("segments")
+        if len(segments) != task["times"].size - 1:
+            wanted = task["times"].size - 1
+            raise ScenarioError(f"{table.where('segments')}: expected {wanted} segments (one "
+                                f"per interval of times), got {len(segments)}")  # fmt: skip
+        task["conditions"] = []
+        for segment in segments:
+            rows = segment.matrix("conditions", columns=3)
+            if np.any(rows[:, 1] != np.round(rows[:, 1])) or np.any(rows[:, 1] < 0):
+                raise ScenarioError(f"{segment.where('conditions')}: each row is (time, order, "
+                                    "value) with a whole order >= 0")  # fmt: skip
+            task["conditions"].append([(t, int(order), value) for t, order, value in rows])
+            segment.done()
+        continuity = table.matrix("continuity", columns=2) if table.has("continuity") else None
+        task["continuity"] = None if continuity is None else [
+            (int(index), int(order)) for index, order in continuity
+        ]  # fmt: skip
+    elif kind == "ellipse":
+        task["center"] = table.numbers("center", count=3)
+        task["a"] = table.number("a", positive=True)
+        task["b"] = table.number("b")
+        task["duration"] = table.number("duration", positive=True)
+        task["law"] = table.string(
+            "law", "linear", choices=("linear", "cubic", "quintic", "septic")
+        )
+        task["dt"] = table.number("dt", 0.01, positive=True)
+        task["branch"] = table.string("branch", None)
+    elif kind == "poses":
+        task["poses"] = table.matrix("poses_xyz_rpy_deg", columns=6, minimum_rows=2)
+        task["profile"] = table.string("profile", "quintic", choices=("cubic", "quintic",
+                                                                      "septic"))  # fmt: skip
+        task["durations"] = table.numbers("durations", count=task["poses"].shape[0] - 1,
+                                          positive=True)  # fmt: skip
+        task["dt"] = table.number("dt", 0.01, positive=True)
     elif kind == "line":
         task["start"] = table.numbers("start", count=3)
         task["end"] = table.numbers("end", count=3)
