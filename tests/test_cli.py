@@ -165,6 +165,7 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
         "seed000_jackal_goto_mujoco.png", "seed000_jackal_goto_mujoco_path.png",
         "seed000_jackal_goto_mujoco.csv",
     }  # fmt: skip
+    expected |= {"index.html", "scenarios"}  # the example scenarios and their report
     if "no frames rendered" not in out:  # frames need an OpenGL backend
         for stem in ("seed000_rrbot_mujoco", "seed000_jackal_goto_mujoco"):
             expected |= {f"{stem}_frame{i}.png" for i in range(3)}
@@ -176,7 +177,13 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     assert "11 s breaks the velocity limit: joint 1" in out
     summary = (out_dir / "summary.txt").read_text()
     assert "piece 2: [0.55, -0.375, 0.4, -0.075]" in summary
-    assert f"wrote {len(names)} files" in out
+    from trajkit import scenario
+
+    scenario_files = sorted(p.name for p in (out_dir / "scenarios").iterdir())
+    for path in scenario.examples():
+        assert f"{path.stem}_summary.txt" in scenario_files
+    assert f"wrote {len(names) - 1 + len(scenario_files)} files" in out
+    assert "open " in out and "index.html" in out
     assert "trapezoid, sync=phase, continuous: duration 14.6071428571 s, limits OK" in out
     assert "trapezoid, sync=phase, dt 2 ms: duration 14.608 s, limits OK" in out
     assert "scurve, sync=time, dt 2 ms: duration 14.858 s, limits OK" in out

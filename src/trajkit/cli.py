@@ -142,6 +142,8 @@ def _build_parser() -> _Parser:
     scenario.add_argument("scenario", type=Path, help="the scenario file (.toml)")
     scenario.add_argument("--out", type=Path, default=Path("trajkit-out"),
                           help="output folder (default ./trajkit-out)")  # fmt: skip
+    scenario.add_argument("--report", action="store_true",
+                          help="also write a self-contained index.html of the run")  # fmt: skip
 
     demo = commands.add_parser("demo", help="run the worked examples and write their outputs")
     demo.add_argument(
@@ -282,10 +284,17 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
 
 
 def _run_scenario(args: argparse.Namespace) -> int:
-    from trajkit.scenario import run
+    from trajkit.scenario import execute, load, report_entry
 
-    outcome = run(args.scenario, args.out)
-    for path in outcome.files:
+    spec = load(args.scenario)
+    outcome = execute(spec, args.out)
+    files = list(outcome.files)
+    if args.report:
+        from trajkit.report import write_report
+
+        files.append(write_report(args.out / "index.html", [report_entry(spec, outcome)],
+                                  title=f"trajkit: {spec.name}"))  # fmt: skip
+    for path in files:
         print(f"wrote {path}")
     return 0
 

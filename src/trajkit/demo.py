@@ -374,10 +374,14 @@ EXAMPLES: tuple[Callable[[Path, StagedFiles, Log], None], ...] = (
 
 
 def run(out: str | Path, log: Log = print) -> list[Path]:
-    """Run every example, writing into ``out`` (created if needed); return the files.
+    """Run every worked example and every example scenario into ``out``; return the files.
 
-    Either every file is written or, if an example fails, none is.
+    The worked examples' files are written all together or not at all; each
+    scenario's likewise. ``index.html`` gathers the scenarios' results.
     """
+    from trajkit import scenario
+    from trajkit.report import write_report
+
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     lines: list[str] = []
@@ -391,6 +395,35 @@ def run(out: str | Path, log: Log = print) -> list[Path]:
             example(folder, stage, record)
         summary = stage.path(folder / "summary.txt")
         summary.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    for path in stage.targets:
+    written = list(stage.targets)
+    entries = []
+    files = scenario.examples()
+    for index, path in enumerate(files, start=1):
+        spec = scenario.load(path)
+        if not _runnable(spec, log):
+            continue
+        log(f"[{index}/{len(files)}] scenario {spec.name}")
+        outcome = scenario.execute(spec, folder / "scenarios", log=lambda line: None)
+        for line in outcome.lines[1:]:
+            log(line)
+        entries.append(scenario.report_entry(spec, outcome))
+        written += outcome.files
+    index_page = folder / "index.html"
+    written.append(write_report(
+        index_page, entries, title="trajkit demo",
+        intro="Every example scenario that ships with trajkit, run by trajkit demo. The "
+        "worked examples of the coursework are in summary.txt and the files beside it.",
+    ))  # fmt: skip
+    for path in written:
         log(f"wrote {path}")
-    return stage.targets
+    log(f"open {index_page} to see the scenarios; summary.txt has the worked examples")
+    return written
+
+
+def _runnable(spec: object, log: Log) -> bool:
+    from trajkit.sim import mujoco_available
+
+    if spec.simulation["engine"] == "mujoco" and not mujoco_available():  # type: ignore[attr-defined]
+        log(f"  skipping {spec.name}: it simulates in MuJoCo, which is not installed")  # type: ignore[attr-defined]
+        return False
+    return True

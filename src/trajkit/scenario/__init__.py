@@ -12,11 +12,31 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from trajkit.scenario.execute import Outcome, execute, robot_of
+from trajkit.scenario.execute import Outcome, execute, report_entry, robot_of
 from trajkit.scenario.parse import Scenario, load, parse
 from trajkit.scenario.reader import ScenarioError
 
-__all__ = ["Outcome", "Scenario", "ScenarioError", "execute", "load", "parse", "robot_of", "run"]
+__all__ = [
+    "EXAMPLES",
+    "Outcome",
+    "Scenario",
+    "ScenarioError",
+    "examples",
+    "execute",
+    "load",
+    "parse",
+    "report_entry",
+    "robot_of",
+    "run",
+]
+
+#: The folder of the example scenarios that ship with trajkit.
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def examples() -> list[Path]:
+    """The example scenario files, sorted by name."""
+    return sorted(EXAMPLES.glob("*.toml"))
 
 
 def run(path: str | os.PathLike[str], out: str | os.PathLike[str], log=print) -> Outcome:

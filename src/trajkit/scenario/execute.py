@@ -21,7 +21,7 @@ from trajkit.scenario.parse import Scenario
 from trajkit.scenario.reader import ScenarioError
 from trajkit.trajectory import Trajectory
 
-__all__ = ["Outcome", "execute", "robot_of"]
+__all__ = ["Outcome", "execute", "report_entry", "robot_of"]
 
 Log = Callable[[str], None]
 #: Sampling period of CSV files when the scenario sets no controller period (s).
@@ -315,3 +315,18 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
             speed=outputs["animation_speed"],
             size=4.0,
         )
+
+
+def report_entry(scenario: Scenario, outcome: Outcome) -> Any:
+    """The :class:`trajkit.report.Entry` of one run."""
+    from trajkit.report import Entry
+
+    run = outcome.log
+    tracking = ""
+    if run is not None and hasattr(run, "joint_names"):
+        tracking = f"max error {np.degrees(run.max_error).max():.3g} deg ({run.controller})"
+    elif run is not None:
+        tracking = f"final error {run.final_position_error * 1000:.3g} mm ({run.controller})"
+    text = scenario.source.read_text(encoding="utf-8") if scenario.source is not None else ""
+    return Entry(scenario.name, scenario.description, float(outcome.plan.duration),
+                 bool(outcome.report.ok), tracking, outcome.lines, outcome.files, text)  # fmt: skip
