@@ -128,3 +128,15 @@ def test_an_interrupted_render_leaves_no_file(tmp_path, monkeypatch, interruptio
         animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="xz", fps=5, size=1.0)
     assert (tmp_path / "arm.gif").read_bytes() == b"old"
     assert os.listdir(tmp_path) == ["arm.gif"]
+
+
+@pytest.mark.skipif(
+    __import__("shutil").which("ffmpeg") is None,
+    reason="ffmpeg is not installed (Debian: apt install ffmpeg); .ci/run installs it",
+)
+def test_mp4_with_ffmpeg(tmp_path):
+    path = animate.mobile(mobile.constant_twist(0.2, 0.5, 2.0), tmp_path / "base.mp4", fps=5,
+                          size=2.0)  # fmt: skip
+    data = path.read_bytes()
+    assert data[4:8] == b"ftyp"  # an MP4 container
+    assert os.listdir(tmp_path) == ["base.mp4"]

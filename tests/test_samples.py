@@ -13,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+import trajkit as tk
 from trajkit import InvalidInputError, Samples
 
 FIELDS = ("q", "qd", "qdd", "qddd")
@@ -384,3 +385,22 @@ def test_npz_with_scalar_names_is_refused_or_read(tmp_path: Path) -> None:
     except InvalidInputError:
         return
     assert samples.names == ("q1",)
+
+
+def test_json_and_npz_keep_the_plans_metadata(tmp_path):
+    plan = tk.trapezoidal(np.zeros(2), [1.0, 0.5], 1.0, 2.0, sync="phase", dt=0.002)
+    samples = plan.sample(0.01)
+    assert samples.metadata["sync"] == "phase" and samples.metadata["dt"] == 0.002
+    for write, read, name in ((samples.to_json, tk.Samples.from_json, "s.json"),
+                              (samples.to_npz, tk.Samples.from_npz, "s.npz")):  # fmt: skip
+        back = read(write(tmp_path / name))
+        assert back.metadata["phase_times"] == np.asarray(plan.info["phase_times"]).tolist()
+        assert back.metadata["limiting_joint"] == plan.info["limiting_joint"]
+    # Non-finite values and other objects become strings; tuples become lists.
+    from trajkit.samples import plain
+
+    assert plain({"a": (1, np.inf), "b": np.float64(2.5), "c": object}) == {
+        "a": [1, "inf"],
+        "b": 2.5,
+        "c": str(object),
+    }

@@ -402,7 +402,8 @@ def run(out: str | Path, log: Log = print) -> list[Path]:
         spec = scenario.load(path)
         if not _runnable(spec, log):
             continue
-        log(f"[{index}/{len(files)}] scenario {spec.name}")
+        done = round(20 * index / len(files))
+        log(f"[{'#' * done}{'.' * (20 - done)}] {index}/{len(files)} scenario {spec.name}")
         outcome = scenario.execute(spec, folder / "scenarios", log=lambda line: None)
         for line in outcome.lines[1:]:
             log(line)

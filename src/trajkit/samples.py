@@ -10,6 +10,7 @@ import re
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -44,6 +45,9 @@ class Samples:
         Position unit, e.g. "rad" or "m"; written into file headers.
     names : tuple of str
         One label per joint; defaults to ``q1, q2, ...``.
+    metadata : dict
+        The plan that was sampled (``Trajectory.info``: phase times, limits, the
+        limiting joint...) as plain JSON values; kept by JSON and NPZ files.
     """
 
     t: FloatArray
@@ -53,6 +57,7 @@ class Samples:
     qddd: FloatArray
     unit: str = "rad"
     names: tuple[str, ...] = field(default=())
+    metadata: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         t = np.array(finite_array("t", self.t, unit="s"))  # own copy, made read-only
@@ -195,6 +200,7 @@ class Samples:
             "version": _VERSION,
             "unit": self.unit,
             "names": list(self.names),
+            "metadata": plain(self.metadata),
             "t": self.t.tolist(),
             **{name: getattr(self, name).tolist() for name in _FIELDS},
         }
@@ -222,6 +228,7 @@ class Samples:
                 *(document[name] for name in _FIELDS),
                 unit=document["unit"],
                 names=tuple(document["names"]),
+                metadata=dict(document.get("metadata", {})),
             )
         except InvalidInputError as exc:
             raise InvalidInputError(f"{source}: {exc}") from exc
@@ -233,8 +240,9 @@ class Samples:
 
         def write(handle: io.BufferedWriter) -> None:
             np.savez_compressed(
-                handle, **arrays, unit=np.array(self.unit), names=np.array(self.names)
-            )
+                handle, **arrays, unit=np.array(self.unit), names=np.array(self.names),
+                metadata=np.array(json.dumps(plain(self.metadata))),
+            )  # fmt: skip
 
         return atomic_write(path, write)
 
@@ -258,9 +266,29 @@ class Samples:
                 *(content[name] for name in _FIELDS),
                 unit=str(content["unit"]),
                 names=tuple(str(n) for n in content["names"]),
+                metadata=json.loads(str(content["metadata"])) if "metadata" in content else {},
             )
         except InvalidInputError as exc:
             raise InvalidInputError(f"{source}: {exc}") from exc
+
+
+def plain(value: Any) -> Any:
+    """``value`` as plain JSON: arrays and tuples as lists, non-finite floats as strings."""
+    if isinstance(value, dict):
+        return {str(key): plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return plain(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if np.isfinite(value) else str(float(value))
+    if value is None or isinstance(value, str):
+        return value
+    return str(value)
 
 
 def _parse_rows(source: Path, lines: list[str], width: int) -> FloatArray:

@@ -303,6 +303,7 @@ class Trajectory:
             qdd=self.evaluate(times, 2),
             qddd=self.evaluate(times, 3),
             unit=unit,
+            metadata=dict(self.info),
         )
 
     # ---------------------------------------------------------------- algebra
