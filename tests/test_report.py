@@ -32,8 +32,8 @@ def entry(tmp_path: Path, name: str = "move", pictures: int = 1, broken: bool = 
         files.append(path)
     (tmp_path / f"{name}.csv").write_text("t\n0\n", encoding="utf-8")
     files.append(tmp_path / f"{name}.csv")
-    return Entry(name, "a <b>bold</b> move", 1.5, True, "max error 0.1 deg", ["line 1", "line 2"],
-                 files, 'name = "move"\n')  # fmt: skip
+    return Entry(name, "a <b>bold</b> move", 1.5, True, "velocity 1 deg/s", "max error 0.1 deg",
+                 ["line 1", "line 2"], files, 'name = "move"\n')  # fmt: skip
 
 
 def test_report_is_self_contained_and_escaped(tmp_path):
@@ -56,6 +56,8 @@ def test_a_scenario_run_reports_its_figures(tmp_path):
     outcome = scenario.execute(spec, tmp_path, log=len)
     report = scenario.report_entry(spec, outcome)
     assert report.name == spec.name and report.ok and report.duration == pytest.approx(14.608)
+    assert report.limits == ("velocity 7, 7, 7, 3.5, 3.5, 3.5 deg/s; acceleration 4, 4, 4, 2, 2, "
+                             "2 deg/s²")  # fmt: skip
     assert report.scenario == path.read_text(encoding="utf-8")
 
 

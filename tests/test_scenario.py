@@ -286,3 +286,28 @@ def test_trajkit_run_on_a_missing_file(tmp_path, capsys):
     status = main(["run", str(tmp_path / "nope.toml")])
     assert status == 2
     assert "No such file" in capsys.readouterr().err
+
+
+def test_the_rrbot_example_bag_has_the_trajectory_and_a_joint_state_stream(tmp_path):
+    pytest.importorskip("rosbags", reason="rosbags is not installed: pip install 'trajkit[ros]'")
+    pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
+    from rosbags.rosbag2 import Reader
+
+    outcome = scenario.run(scenario.EXAMPLES / "seed000_rrbot_cubic.toml", tmp_path, log=len)
+    with Reader(tmp_path / "seed000_rrbot_cubic_bag") as reader:
+        counts = {c.topic: c.msgcount for c in reader.connections}
+    # 11.17 s at the stream's default 100 Hz: 1118 states, the end included.
+    assert counts == {"/joint_trajectory": 1, "/joint_states": 1118}
+    assert outcome.report.ok
+
+
+def test_an_interrupted_run_leaves_no_output(tmp_path, monkeypatch):
+    import trajkit.plot
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(trajkit.plot, "save", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        scenario.execute(scenario.parse(ARM), tmp_path / "out", log=len)
+    assert list((tmp_path / "out").iterdir()) == []

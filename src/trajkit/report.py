@@ -60,6 +60,8 @@ class Entry:
         The plan's duration (s).
     ok : bool
         Whether the plan kept every limit.
+    limits : str
+        The limits the plan was checked against, in words.
     tracking : str
         A line about the simulated tracking, or ``""``.
     lines : sequence of str
@@ -74,6 +76,7 @@ class Entry:
     description: str
     duration: float
     ok: bool
+    limits: str
     tracking: str
     lines: Sequence[str]
     files: Sequence[Path]
@@ -112,6 +115,7 @@ def write_report(
         rows.append(
             f'<tr><td><a href="#{html.escape(entry.name)}">{html.escape(entry.name)}</a></td>'
             f"<td>{html.escape(entry.description)}</td><td>{entry.duration:.6g} s</td>"
+            f"<td>{html.escape(entry.limits)}</td>"
             f'<td class="{verdict}">{"OK" if entry.ok else "FAILED"}</td>'
             f"<td>{html.escape(entry.tracking)}</td></tr>"
         )
@@ -136,7 +140,7 @@ def write_report(
         f"<h1>{html.escape(title)}</h1><div id='broken'></div>"
         + (f"<p>{html.escape(intro)}</p>" if intro else "")
         + "<table><tr><th>scenario</th><th>what</th><th>duration</th><th>limits</th>"
-        f"<th>tracking</th></tr>{''.join(rows)}</table>{''.join(sections)}</body></html>"
+        f"<th>check</th><th>tracking</th></tr>{''.join(rows)}</table>{''.join(sections)}</body></html>"
     )
     data = page.encode("utf-8")
     return atomic_write(path, lambda handle: handle.write(data))

@@ -105,8 +105,14 @@ def execute(scenario: Scenario, out: str | Path, log: Log = print) -> Outcome:
     if scenario.outputs["ros2_bag"]:
         from trajkit.io.ros2 import write_bag
 
+        stream = scenario.outputs["ros2_stream"]
+        arm_stream = None if scenario.mobile or stream == "none" else stream
+        rate = None
+        if arm_stream is not None:
+            rate = 1.0 / scenario.period if scenario.period else None  # the controller's rate
         names = None if scenario.mobile or robot is None else robot.names
         files.append(write_bag(stem.with_name(f"{scenario.name}_bag"), plan, joint_names=names,
+                               stream=arm_stream, rate_hz=rate,
                                storage=scenario.outputs["storage"]))  # fmt: skip
     for line in lines:
         log(line)
@@ -295,7 +301,10 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
         plan.sample(scenario.period or SAMPLE_PERIOD).to_csv(at(".csv"))
     if outputs["plot"]:
         names = None if robot is None else robot.names
-        figure = tk.plot.profiles(plan, _arm_limits(scenario), names=names, title=name)
+        # A jerk panel too when the scenario limits jerk.
+        orders = (0, 1, 2, 3) if "jerk" in scenario.limits else (0, 1, 2)
+        figure = tk.plot.profiles(plan, _arm_limits(scenario), names=names, title=name,
+                                  orders=orders)  # fmt: skip
         tk.plot.save(figure, at(".png"))
         if extra is not None:
             tk.plot.save(tk.plot.task_space(extra, title=f"{name}: task space"), at("_task.png"))
@@ -329,4 +338,22 @@ def report_entry(scenario: Scenario, outcome: Outcome) -> Any:
         tracking = f"final error {run.final_position_error * 1000:.3g} mm ({run.controller})"
     text = scenario.source.read_text(encoding="utf-8") if scenario.source is not None else ""
     return Entry(scenario.name, scenario.description, float(outcome.plan.duration),
-                 bool(outcome.report.ok), tracking, outcome.lines, outcome.files, text)  # fmt: skip
+                 bool(outcome.report.ok), _limits_text(scenario), tracking, outcome.lines,
+                 outcome.files, text)  # fmt: skip
+
+
+def _limits_text(scenario: Scenario) -> str:
+    """The scenario's limits in words, angles in degrees: "velocity 9, 11 deg/s"."""
+    parts = []
+    for key, value in scenario.limits.items():
+        values = np.atleast_1d(value)
+        angular = not scenario.mobile or key.startswith("angular")
+        unit = {"velocity": "/s", "angular_velocity": "/s", "acceleration": "/s²",
+                "angular_acceleration": "/s²", "jerk": "/s³"}[key]  # fmt: skip
+        shown = np.degrees(values) if angular else values
+        base = "deg" if angular else "m"
+        parts.append(f"{key.replace('_', ' ')} {', '.join(f'{v:.4g}' for v in shown)} "
+                     f"{base}{unit}")  # fmt: skip
+    if not scenario.mobile or not parts:
+        return "; ".join(parts) or "the robot's own"
+    return "; ".join(parts)

@@ -291,7 +291,8 @@ def _simulation(table: Table | None, mobile: bool) -> dict[str, Any]:
 
 def _outputs(table: Table | None) -> dict[str, Any]:
     defaults = {"csv": True, "plot": True, "animation": "none", "animation_fps": 10.0,
-                "animation_speed": 1.0, "ros2_bag": False, "storage": "mcap"}  # fmt: skip
+                "animation_speed": 1.0, "ros2_bag": False, "ros2_stream": "none",
+                "storage": "mcap"}  # fmt: skip
     if table is None:
         return defaults
     outputs = {
@@ -301,6 +302,9 @@ def _outputs(table: Table | None) -> dict[str, Any]:
         "animation_fps": table.number("animation_fps", 10.0, positive=True),
         "animation_speed": table.number("animation_speed", 1.0, positive=True),
         "ros2_bag": table.boolean("ros2_bag", False),
+        "ros2_stream": table.string(
+            "ros2_stream", "none", choices=("none", "joint_state", "point")
+        ),
         "storage": table.string("storage", "mcap", choices=("mcap", "sqlite3")),
     }
     table.done()
