@@ -44,7 +44,7 @@ def test_report_is_self_contained_and_escaped(tmp_path):
     assert "<title>a &lt;test&gt;</title>" in page and "see &lt;here&gt;" in page
     assert "a &lt;b&gt;bold&lt;/b&gt; move" in page and "<b>bold</b>" not in page
     assert page.count("data:image/png;base64,") == 1
-    assert "<li>move.csv</li>" in page  # non-pictures are listed
+    assert '<li><a href="move.csv">move.csv</a></li>' in page  # other files are linked
     assert "name = &quot;move&quot;" in page  # the scenario echoed, escaped
     assert 'src="http' not in page and 'href="http' not in page  # nothing fetched
     assert sorted(os.listdir(tmp_path)) == ["index.html", "move.csv", "move_0.png"]
@@ -82,7 +82,8 @@ def test_report_renders_in_chromium_with_every_picture_loaded(tmp_path):
     page = write_report(tmp_path / "index.html", entries)
     dom = chromium("--dump-dom", page.as_uri(), tmp_path=tmp_path)
     images = int(re.search(r'data-images="(\d+)"', dom).group(1))
-    assert images == 4  # each: the time panels, plus the path (twist) or the task space (ellipse)
+    # twist: time panels and path; ellipse: joints, task space and its animation (a GIF)
+    assert images == 5
     assert 'data-broken="0"' in dom
     shot = tmp_path / "shot.png"
     chromium("--window-size=1200,900", f"--screenshot={shot}", page.as_uri(), tmp_path=tmp_path)

@@ -216,9 +216,41 @@ def _places(data, prefix=()):
         yield (*prefix, key)
         if isinstance(value, dict):
             yield from _places(value, (*prefix, key))
+        elif isinstance(value, list) and value and isinstance(value[0], dict):
+            yield from _places(value[0], (*prefix, key))  # the first of an array of tables
 
 
 PLACES = list(_places(BASE))
+
+
+EXAMPLE_DATA = [tomllib.loads(path.read_text(encoding="utf-8")) for path in EXAMPLES]
+EXAMPLE_PLACES = [(index, place) for index, data in enumerate(EXAMPLE_DATA)
+                  for place in _places(data)]  # fmt: skip
+HUGE = st.integers() | st.integers(min_value=10**300, max_value=10**400) | st.floats()
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(where=st.sampled_from(EXAMPLE_PLACES), value=VALUES | HUGE | st.lists(HUGE, max_size=4),
+       extra=st.booleans())  # fmt: skip
+def test_fuzzed_example_files_raise_only_the_documented_error(where, value, extra):
+    index, place = where
+    data = copy.deepcopy(EXAMPLE_DATA[index])
+    target = data
+    for key in place[:-1]:
+        target = target[key] if isinstance(target, dict) else target[0]
+    if not isinstance(target, dict):
+        return
+    if value is None:
+        target.pop(place[-1], None)
+    elif extra:
+        target[f"{place[-1]}_x"] = value
+    else:
+        target[place[-1]] = value
+    try:
+        spec = from_data(data)
+    except ScenarioError:
+        return
+    assert spec.name and spec.task["kind"]
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -311,3 +343,57 @@ def test_an_interrupted_run_leaves_no_output(tmp_path, monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         scenario.execute(scenario.parse(ARM), tmp_path / "out", log=len)
     assert list((tmp_path / "out").iterdir()) == []
+
+
+def test_trajkit_run_exits_1_when_the_plan_breaks_a_limit(tmp_path, capsys):
+    path = tmp_path / "fast.toml"
+    path.write_text(
+        'name = "fast"\n[task]\nkind = "polynomial"\ntimes = [0.0, 1.0]\n'
+        "[[task.segments]]\nconditions = [[0, 0, 0], [0, 1, 0], [1, 0, 1], [1, 1, 0]]\n"
+        "[limits]\nvelocity = 1.0\n",  # the cubic peaks at 1.5 rad/s
+        encoding="utf-8",
+    )
+    status = main(["run", str(path), "--out", str(tmp_path / "out")])
+    captured = capsys.readouterr()
+    assert status == 1
+    assert "limit check: FAILED" in captured.out
+    assert captured.err == "trajkit: the plan breaks a limit (see the limit check above)\n"
+    assert (tmp_path / "out" / "fast.csv").exists()  # the outputs are still written
+
+
+def test_ctrl_c_is_one_line_and_leaves_nothing(tmp_path, capsys, monkeypatch):
+    import trajkit.plot
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(trajkit.plot, "save", interrupted)
+    path = tmp_path / "arm.toml"
+    path.write_text(ARM, encoding="utf-8")
+    status = main(["run", str(path), "--out", str(tmp_path / "out"), "--report"])
+    captured = capsys.readouterr()
+    assert status == 130 and captured.out == ""
+    assert captured.err == "trajkit: interrupted; nothing was written\n"
+    assert not (tmp_path / "out").exists() or list((tmp_path / "out").iterdir()) == []
+
+
+def test_report_and_bag_are_written_with_the_files_or_not_at_all(tmp_path, monkeypatch):
+    pytest.importorskip("rosbags", reason="rosbags is not installed: pip install 'trajkit[ros]'")
+    text = ARM + "[outputs]\nros2_bag = true\n"
+    outcome = scenario.execute(scenario.parse(text), tmp_path, report=True, log=len)
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == ["arm.csv", "arm.png", "arm_bag", "arm_summary.txt", "index.html"]
+    assert sorted(p.name for p in outcome.files) == names
+    page = (tmp_path / "index.html").read_text(encoding="utf-8")
+    assert '<a href="arm.csv">' in page and "data:image/png;base64," in page
+    # A failure in the bag writer leaves the earlier outputs as they were.
+    before = {p.name: p.stat().st_mtime_ns for p in tmp_path.iterdir()}
+    import trajkit.io.ros2
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr(trajkit.io.ros2, "write_bag", broken)
+    with pytest.raises(RuntimeError, match="disk full"):
+        scenario.execute(scenario.parse(text), tmp_path, report=True, log=len)
+    assert {p.name: p.stat().st_mtime_ns for p in tmp_path.iterdir()} == before

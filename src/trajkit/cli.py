@@ -31,6 +31,8 @@ from trajkit.trajectory import Trajectory
 __all__ = ["main"]
 
 EXIT_USAGE = 2
+EXIT_LIMITS_BROKEN = 1  # trajkit run: the plan was written but breaks a limit
+EXIT_INTERRUPTED = 130  # Ctrl-C, as shells report it
 DEFAULT_SAMPLE_PERIOD = 0.002  # s, a common robot controller period
 
 # Each profile and the optional arguments it takes (besides q0, qf, duration, limits).
@@ -175,6 +177,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         message = str(exc).replace("\n", " ")
         print(f"trajkit: error: {message}", file=sys.stderr)
         return EXIT_USAGE
+    except KeyboardInterrupt:
+        # Outputs are staged: an interrupted run leaves none of them.
+        print("trajkit: interrupted; nothing was written", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 def _plan(args: argparse.Namespace) -> int:
@@ -284,18 +290,14 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
 
 
 def _run_scenario(args: argparse.Namespace) -> int:
-    from trajkit.scenario import execute, load, report_entry
+    from trajkit.scenario import execute, load
 
-    spec = load(args.scenario)
-    outcome = execute(spec, args.out)
-    files = list(outcome.files)
-    if args.report:
-        from trajkit.report import write_report
-
-        files.append(write_report(args.out / "index.html", [report_entry(spec, outcome)],
-                                  title=f"trajkit: {spec.name}"))  # fmt: skip
-    for path in files:
+    outcome = execute(load(args.scenario), args.out, report=args.report)
+    for path in outcome.files:
         print(f"wrote {path}")
+    if not outcome.report.ok:
+        print("trajkit: the plan breaks a limit (see the limit check above)", file=sys.stderr)
+        return EXIT_LIMITS_BROKEN
     return 0
 
 

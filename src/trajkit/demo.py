@@ -422,9 +422,13 @@ def run(out: str | Path, log: Log = print) -> list[Path]:
 
 
 def _runnable(spec: object, log: Log) -> bool:
-    from trajkit.sim import mujoco_available
+    """Whether this machine has what the scenario needs; if not, say what to install."""
+    from trajkit.errors import TrajkitError
+    from trajkit.scenario.execute import _preflight
 
-    if spec.simulation["engine"] == "mujoco" and not mujoco_available():  # type: ignore[attr-defined]
-        log(f"  skipping {spec.name}: it simulates in MuJoCo, which is not installed")  # type: ignore[attr-defined]
+    try:
+        _preflight(spec)  # type: ignore[arg-type]
+    except TrajkitError as exc:
+        log(f"  skipping {spec.name}: {exc}")  # type: ignore[attr-defined]
         return False
     return True

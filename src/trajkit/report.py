@@ -11,7 +11,7 @@ from __future__ import annotations
 import base64
 import html
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -19,7 +19,8 @@ from trajkit.io.atomic import atomic_write
 
 __all__ = ["Entry", "write_report"]
 
-_PICTURES = {".png": "image/png", ".gif": "image/gif", ".svg": "image/svg+xml"}
+_PICTURES = {".png": "image/png", ".gif": "image/gif", ".svg": "image/svg+xml",
+             ".mp4": "video/mp4"}  # fmt: skip
 _STYLE = """
 body { font: 15px/1.45 system-ui, sans-serif; margin: 2em auto; max-width: 1100px;
        color: #1d2330; padding: 0 1em; }
@@ -83,12 +84,22 @@ class Entry:
     scenario: str
 
 
-def _picture(path: Path) -> str:
+def _picture(path: Path, source: Path) -> str:
     kind = _PICTURES[path.suffix.lower()]
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    data = base64.b64encode(source.read_bytes()).decode("ascii")
+    if kind.startswith("video/"):
+        return (f'<figure><video controls loop muted src="data:{kind};base64,{data}"></video>'
+                f"<figcaption>{html.escape(path.name)}</figcaption></figure>")  # fmt: skip
     name = html.escape(path.name)
     return (f'<figure><img src="data:{kind};base64,{data}" alt="{name}">'
             f"<figcaption>{name}</figcaption></figure>")  # fmt: skip
+
+
+def _relative(target: Path, folder: Path) -> str:
+    try:
+        return Path(os.path.relpath(target, folder)).as_posix()
+    except ValueError:  # another drive
+        return target.as_uri()
 
 
 def write_report(
@@ -97,6 +108,7 @@ def write_report(
     *,
     title: str = "trajkit report",
     intro: str = "",
+    sources: Mapping[Path, Path] | None = None,
 ) -> Path:
     """Write the report page (atomically) and return its path.
 
@@ -108,7 +120,11 @@ def write_report(
     title : str
     intro : str
         A paragraph (plain text) under the title.
+    sources : mapping, optional
+        Where each entry file can be read now, when not at its own path (outputs
+        still staged under temporary names).
     """
+    sources = {} if sources is None else dict(sources)
     rows = []
     for entry in entries:
         verdict = "ok" if entry.ok else "failed"
@@ -121,14 +137,17 @@ def write_report(
         )
     sections = []
     for entry in entries:
-        pictures = [f for f in entry.files if f.suffix.lower() in _PICTURES and f.is_file()]
+        pictures = [f for f in entry.files
+                    if f.suffix.lower() in _PICTURES and sources.get(f, f).is_file()]  # fmt: skip
         others = [f for f in entry.files if f not in pictures]
-        listed = "".join(f"<li>{html.escape(f.name)}</li>" for f in others)
+        folder = Path(path).parent
+        listed = "".join(f'<li><a href="{html.escape(_relative(f, folder))}">'
+                         f"{html.escape(f.name)}</a></li>" for f in others)  # fmt: skip
         sections.append(
             f'<h2 id="{html.escape(entry.name)}">{html.escape(entry.name)}</h2>'
             f"<p>{html.escape(entry.description)}</p>"
             f"<pre>{html.escape(chr(10).join(entry.lines))}</pre>"
-            + "".join(_picture(p) for p in pictures)
+            + "".join(_picture(p, sources.get(p, p)) for p in pictures)
             + (f"<p>Also written:</p><ul>{listed}</ul>" if listed else "")
             + f"<details><summary>Scenario file</summary><pre>{html.escape(entry.scenario)}"
             "</pre></details>"

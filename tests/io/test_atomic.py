@@ -214,3 +214,35 @@ def test_staged_files_failing_commit_leaves_no_temporaries_and_no_partial_group(
         stage.path(tmp_path / "b.png").write_bytes(b"img")
     assert _names(tmp_path) == ["a.csv", "b.png"]  # no temporary left behind
     assert first.read_bytes() == b"old"  # all or nothing
+
+
+def test_staged_folders_appear_with_the_files_or_not_at_all(tmp_path):
+    from trajkit.io.atomic import staged_files
+
+    with staged_files() as stage:
+        (stage.path(tmp_path / "a.txt")).write_text("a")
+        made = stage.folder(tmp_path / "bag")
+        made.mkdir()
+        (made / "data").write_text("new")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "bag"]
+    assert (tmp_path / "bag" / "data").read_text() == "new"
+    # A failure after staging leaves the old folder and file untouched, and no temporaries.
+    try:
+        with staged_files() as stage:
+            stage.path(tmp_path / "a.txt").write_text("b")
+            made = stage.folder(tmp_path / "bag")
+            made.mkdir()
+            (made / "data").write_text("newer")
+            raise KeyboardInterrupt
+    except KeyboardInterrupt:
+        pass
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "bag"]
+    assert (tmp_path / "a.txt").read_text() == "a"
+    assert (tmp_path / "bag" / "data").read_text() == "new"
+    # Replacing a folder swaps it whole.
+    with staged_files() as stage:
+        made = stage.folder(tmp_path / "bag")
+        made.mkdir()
+        (made / "other").write_text("x")
+    assert sorted(p.name for p in (tmp_path / "bag").iterdir()) == ["other"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "bag"]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -69,6 +70,8 @@ class StagedFiles:
 
     def __init__(self) -> None:
         self._pending: list[tuple[Path, Path]] = []
+        self._folders: list[tuple[Path, Path, Path]] = []
+        self.sources: dict[Path, Path] = {}
 
     def path(self, target: str | os.PathLike[str]) -> Path:
         """A temporary path beside ``target`` with the same suffix; write there.
@@ -85,12 +88,32 @@ class StagedFiles:
         os.close(descriptor)
         temporary = Path(name)
         self._pending.append((temporary, destination))
+        self.sources[destination] = temporary
         return temporary
+
+    def folder(self, target: str | os.PathLike[str]) -> Path:
+        """A path for a whole folder to appear at ``target`` with the files; create it there.
+
+        The path lies in a temporary folder beside ``target`` and does not exist yet.
+        """
+        destination = Path(target)
+        parent = destination.parent if str(destination.parent) else Path(".")
+        if not parent.is_dir():
+            raise FileNotFoundError(f"folder {parent} does not exist (for {destination.name})")
+        scratch = Path(tempfile.mkdtemp(dir=parent, prefix=f".{destination.name}.", suffix=".tmp"))
+        path = scratch / destination.name
+        self._folders.append((scratch, path, destination))
+        self.sources[destination] = path
+        return path
 
     @property
     def targets(self) -> list[Path]:
-        """Final paths, in the order they were staged."""
-        return [target for _, target in self._pending]
+        """Final paths, in the order they were staged (files, then folders)."""
+        return [target for _, target in self._pending] + [t for _, _, t in self._folders]
+
+    def _discard_folders(self) -> None:
+        for scratch, _, _ in self._folders:
+            shutil.rmtree(scratch, ignore_errors=True)
 
 
 @contextlib.contextmanager
@@ -113,20 +136,38 @@ def staged_files() -> Iterator[StagedFiles]:
         for temporary, _ in stage._pending:
             with contextlib.suppress(OSError):
                 os.unlink(temporary)
+        stage._discard_folders()
         raise
     pending = list(stage._pending)
     try:
         for _, target in pending:
             if target.is_dir():
                 raise IsADirectoryError(f"cannot write {target}: it is a folder")
+        for _, made, target in stage._folders:
+            if not made.is_dir():
+                raise FileNotFoundError(f"the folder for {target} was not written")
+            if target.exists() and not target.is_dir():
+                raise NotADirectoryError(f"cannot replace {target} with a folder: it is a file")
         while pending:
             temporary, target = pending[0]
             os.chmod(temporary, _mode_for(target))
             os.replace(temporary, target)
             pending.pop(0)
+        for scratch, made, target in stage._folders:
+            old = scratch / (target.name + ".old")
+            if target.exists():
+                os.replace(target, old)  # swapped out; dropped with the scratch folder
+            try:
+                os.replace(made, target)
+            except BaseException:
+                if old.exists():
+                    os.replace(old, target)  # the old folder stays where it was
+                raise
     except BaseException:
         # A rename failed midway (rare: checked above): remove what was not placed.
         for temporary, _ in pending:
             with contextlib.suppress(OSError):
                 os.unlink(temporary)
         raise
+    finally:
+        stage._discard_folders()

@@ -6,6 +6,7 @@ a folder, is renamed into place after them.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,6 +16,7 @@ import numpy as np
 
 import trajkit as tk
 from trajkit import mobile
+from trajkit.errors import TrajkitError
 from trajkit.io.atomic import StagedFiles, staged_files
 from trajkit.kinematics import UR5, DHRow, Planar2R, RRBot, SerialChain, Spatial3R, from_urdf
 from trajkit.scenario.parse import Scenario
@@ -76,53 +78,106 @@ def robot_of(scenario: Scenario) -> Any:
     return from_urdf(robot["urdf"], base_link=robot["base_link"], tip_link=robot["tip_link"])
 
 
-def execute(scenario: Scenario, out: str | Path, log: Log = print) -> Outcome:
+def execute(
+    scenario: Scenario, out: str | Path, log: Log = print, *, report: bool = False
+) -> Outcome:
     """Run ``scenario`` and write its outputs into the folder ``out`` (created if needed).
+
+    Every output (files, the ROS 2 bag folder, with ``report`` the ``index.html``
+    page) appears together or not at all; the folder is made only when there is
+    something to write.
 
     Raises
     ------
     ScenarioError
-        When the scenario's parts do not fit together (a joint count, a missing limit).
+        When the scenario's parts do not fit together (a joint count, a missing limit),
+        or planning refuses the task (the message starts with ``task:``).
     TrajkitError
-        When planning or simulating fails (the message says why).
+        When a library the outputs need is missing, or simulating fails.
     """
-    folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
+    _preflight(scenario)
     robot = robot_of(scenario)
     lines = [f"scenario {scenario.name}" + (f": {scenario.description}" if scenario.description
                                             else "")]  # fmt: skip
-    plan, extra = (_mobile_plan if scenario.mobile else _arm_plan)(scenario, robot, lines)
-    report = plan.check() if scenario.mobile else plan.check(_arm_limits(scenario))
-    lines.append(f"  limit check: {'OK' if report.ok else 'FAILED'}")
-    lines += [f"    {violation}" for violation in report.violations]
+    try:
+        plan, extra = (_mobile_plan if scenario.mobile else _arm_plan)(scenario, robot, lines)
+    except ScenarioError:
+        raise
+    except TrajkitError as exc:
+        raise ScenarioError(f"task: {exc}") from None
+    if not scenario.mobile and robot is not None and plan.ndof != robot.ndof:
+        raise ScenarioError(f"task: the plan has {plan.ndof} joint(s) but {robot.name} has "
+                            f"{robot.ndof}")  # fmt: skip
+    checked = plan.check() if scenario.mobile else plan.check(_arm_limits(scenario, robot))
+    lines.append(f"  limit check: {'OK' if checked.ok else 'FAILED'}")
+    lines += [f"    {violation}" for violation in checked.violations]
     run = _simulate(scenario, robot, plan, extra, lines)
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
     stem = folder / scenario.name
     with staged_files() as stage:
         _write(scenario, robot, plan, run, extra, stem, stage)
         summary = stage.path(stem.with_name(f"{scenario.name}_summary.txt"))
         summary.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    files = list(stage.targets)
-    if scenario.outputs["ros2_bag"]:
-        from trajkit.io.ros2 import write_bag
+        if scenario.outputs["ros2_bag"]:
+            _write_bag(scenario, robot, plan, stage.folder(stem.with_name(f"{scenario.name}_bag")))
+        outcome = Outcome(plan, checked, run, list(stage.targets), lines)
+        if report:
+            from trajkit.report import write_report
 
-        stream = scenario.outputs["ros2_stream"]
-        arm_stream = None if scenario.mobile or stream == "none" else stream
-        rate = None
-        if arm_stream is not None:
-            rate = 1.0 / scenario.period if scenario.period else None  # the controller's rate
-        names = None if scenario.mobile or robot is None else robot.names
-        files.append(write_bag(stem.with_name(f"{scenario.name}_bag"), plan, joint_names=names,
-                               stream=arm_stream, rate_hz=rate,
-                               storage=scenario.outputs["storage"]))  # fmt: skip
+            page = folder / "index.html"
+            write_report(stage.path(page), [report_entry(scenario, outcome)],
+                         title=f"trajkit: {scenario.name}", sources=stage.sources)  # fmt: skip
+    files = list(stage.targets)
     for line in lines:
         log(line)
-    return Outcome(plan, report, run, files, lines)
+    return Outcome(plan, checked, run, files, lines)
 
 
-def _arm_limits(scenario: Scenario) -> tk.Limits:
+def _preflight(scenario: Scenario) -> None:
+    """Refuse at once what the outputs need and this machine lacks, before any work."""
+    outputs = scenario.outputs
+    if outputs["ros2_bag"]:
+        from trajkit.io.ros2 import _rosbags
+
+        _rosbags()
+    if outputs["animation"] == "mp4":
+        import shutil
+
+        from trajkit.animate import AnimationUnavailable
+
+        if shutil.which("ffmpeg") is None:
+            raise AnimationUnavailable("outputs.animation: mp4 needs the ffmpeg program, which "
+                                       "is not on PATH (Debian: apt install ffmpeg)")  # fmt: skip
+    if scenario.simulation["engine"] == "mujoco":
+        from trajkit.sim.engine import mujoco_module
+
+        mujoco_module()
+
+
+def _write_bag(scenario: Scenario, robot: Any, plan: Any, path: Path) -> None:
+    from trajkit.io.ros2 import write_bag
+
+    stream = scenario.outputs["ros2_stream"]
+    arm_stream = None if scenario.mobile or stream == "none" else stream
+    rate = None
+    if arm_stream is not None and scenario.period:
+        rate = 1.0 / scenario.period  # the controller's rate
+    if scenario.mobile:
+        rate = scenario.simulation.get("rate_hz") or scenario.task.get("rate_hz")
+    names = None if scenario.mobile or robot is None else robot.names
+    write_bag(path, plan, joint_names=names, stream=arm_stream, rate_hz=rate,
+              storage=scenario.outputs["storage"])  # fmt: skip
+
+
+def _arm_limits(scenario: Scenario, robot: SerialChain | None = None) -> tk.Limits:
+    """The scenario's limits, with the robot's joint ranges (positions) when it has some."""
     limits = scenario.limits
-    return tk.Limits(velocity=limits.get("velocity"), acceleration=limits.get("acceleration"),
-                     jerk=limits.get("jerk"))  # fmt: skip
+    position = None
+    if robot is not None and np.any(np.isfinite(robot.lower) | np.isfinite(robot.upper)):
+        position = (robot.lower, robot.upper)
+    return tk.Limits(position=position, velocity=limits.get("velocity"),
+                     acceleration=limits.get("acceleration"), jerk=limits.get("jerk"))  # fmt: skip
 
 
 def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple[Trajectory, Any]:
@@ -214,11 +269,16 @@ def _mobile_plan(scenario: Scenario, model: Any, lines: list[str]) -> tuple[Any,
     limits = _mobile_limits(scenario, model)
     kind = task["kind"]
     if kind == "twist":
+        # The scenario's limits are what the twist is checked against.
+        model = dataclasses.replace(model, limits=limits)
         plan = mobile.constant_twist(task["v"], task["omega"], task["duration"],
                                      rate_hz=task["rate_hz"], model=model)  # fmt: skip
     elif kind == "goto":
+        goal = (
+            (*task["goal"], task["heading"]) if task["heading"] is not None else tuple(task["goal"])
+        )
         plan = mobile.rotate_translate_rotate(
-            tuple(task["goal"]), tuple(task["start"]), limits=limits, profile=task["profile"],
+            goal, (*task["start"], task["start_heading"]), limits=limits, profile=task["profile"],
             blend_ratio=task["blend_ratio"], reverse=task["reverse"], dt=scenario.period,
             model=model,
         )  # fmt: skip
@@ -242,8 +302,8 @@ def _simulate(scenario: Scenario, robot: Any, plan: Any, extra: Any, lines: list
         from trajkit.mobile.control import controller_named
 
         controller = controller_named(task.get("controller", "feedforward"))
-        offset = np.asarray(task.get("offset", (0.0, 0.0, 0.0)), dtype=float)
-        start = plan.start_pose + np.array([offset[0], offset[1], np.radians(offset[2])])
+        offset = (*task.get("offset", (0.0, 0.0)), task.get("offset_heading", 0.0))
+        start = plan.start_pose + np.array(offset)
         if engine == "mujoco":
             from trajkit import sim
 
@@ -294,11 +354,17 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
             from trajkit import animate
 
             animate.mobile(plan if run is None else run, at(f".{outputs['animation']}"),
-                           title=name, progress=False, fps=outputs["animation_fps"],
+                           title=name, progress=True, fps=outputs["animation_fps"],
                            speed=outputs["animation_speed"], size=4.0)  # fmt: skip
         return
-    if outputs["csv"]:
-        plan.sample(scenario.period or SAMPLE_PERIOD).to_csv(at(".csv"))
+    samples = None
+    if any(outputs[kind] for kind in ("csv", "json", "npz")):
+        samples = plan.sample(scenario.period or SAMPLE_PERIOD)
+        if robot is not None:
+            samples = dataclasses.replace(samples, names=tuple(robot.names))
+    for kind in ("csv", "json", "npz"):
+        if outputs[kind]:
+            getattr(samples, f"to_{kind}")(at(f".{kind}"))
     if outputs["plot"]:
         names = None if robot is None else robot.names
         # A jerk panel too when the scenario limits jerk.
@@ -319,7 +385,8 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
             plan,
             at(f".{outputs['animation']}"),
             title=name,
-            progress=False,
+            progress=True,
+            view=outputs["animation_view"],
             fps=outputs["animation_fps"],
             speed=outputs["animation_speed"],
             size=4.0,
@@ -336,7 +403,7 @@ def report_entry(scenario: Scenario, outcome: Outcome) -> Any:
         tracking = f"max error {np.degrees(run.max_error).max():.3g} deg ({run.controller})"
     elif run is not None:
         tracking = f"final error {run.final_position_error * 1000:.3g} mm ({run.controller})"
-    text = scenario.source.read_text(encoding="utf-8") if scenario.source is not None else ""
+    text = scenario.text
     return Entry(scenario.name, scenario.description, float(outcome.plan.duration),
                  bool(outcome.report.ok), _limits_text(scenario), tracking, outcome.lines,
                  outcome.files, text)  # fmt: skip

@@ -31,7 +31,7 @@ PROFILES = ("cubic", "quintic", "septic", "trapezoid", "scurve")
 ANIMATIONS = ("none", "gif", "mp4")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Scenario:
     """A parsed scenario: each section as a dictionary of checked values.
 
@@ -52,10 +52,13 @@ class Scenario:
     simulation : dict
         ``engine`` (kinematic or mujoco), ``controller``, ``rate_hz``.
     outputs : dict
-        ``csv``, ``plot``, ``animation`` (none, gif or mp4) with ``animation_fps``
-        and ``animation_speed``, ``ros2_bag``, ``storage`` (mcap or sqlite3).
+        ``csv``, ``json``, ``npz`` (samples), ``plot``, ``animation`` (none, gif or
+        mp4) with ``animation_view``, ``animation_fps`` and ``animation_speed``,
+        ``ros2_bag``, ``ros2_stream``, ``storage`` (mcap or sqlite3).
     source : Path or None
         The file it was read from.
+    text : str
+        The scenario's text, as read (echoed by reports).
     """
 
     name: str
@@ -67,6 +70,7 @@ class Scenario:
     simulation: dict[str, Any]
     outputs: dict[str, Any]
     source: Path | None = field(default=None, compare=False)
+    text: str = ""
 
     @property
     def mobile(self) -> bool:
@@ -97,11 +101,15 @@ def parse(text: str, *, folder: Path | None = None, source: Path | None = None) 
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"not valid TOML: {exc}") from None
-    return from_data(data, folder=folder, source=source)
+    return from_data(data, folder=folder, source=source, text=text)
 
 
 def from_data(
-    data: dict[str, Any], *, folder: Path | None = None, source: Path | None = None
+    data: dict[str, Any],
+    *,
+    folder: Path | None = None,
+    source: Path | None = None,
+    text: str = "",
 ) -> Scenario:
     """Check a scenario already read from TOML (a dictionary of its tables)."""
     root = Table(data, "")
@@ -129,7 +137,8 @@ def from_data(
             raise ScenarioError("outputs.animation: animating needs a [robot] table")
         if simulation["engine"] == "mujoco":
             raise ScenarioError("simulation.engine: simulating needs a [robot] table")
-    return Scenario(name, description, robot, task, limits, period, simulation, outputs, source)
+    return Scenario(name, description, robot, task, limits, period, simulation, outputs, source,
+                    text)  # fmt: skip
 
 
 def _robot(table: Table, kind: str, folder: Path) -> dict[str, Any]:
@@ -180,6 +189,9 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
         task["profile"] = table.string("profile", "cubic", choices=PROFILES)
         task["duration"] = table.number("duration", None, positive=True)
         task["sync"] = table.string("sync", "time", choices=("time", "phase", "none"))
+        if table.has("sync") and task["profile"] not in ("trapezoid", "scurve"):
+            raise ScenarioError(f"{table.where('sync')}: applies to trapezoid and scurve "
+                                f"profiles, not {task['profile']}")  # fmt: skip
         task["v0"] = table.numbers("v0", 0.0, count=task["q0"].size, angles=True, scalar_ok=True)
         task["vf"] = table.numbers("vf", 0.0, count=task["q0"].size, angles=True, scalar_ok=True)
     elif kind == "waypoints":
@@ -199,12 +211,21 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
         task["conditions"] = []
         for segment in segments:
             rows = segment.matrix("conditions", columns=3)
-            if np.any(rows[:, 1] != np.round(rows[:, 1])) or np.any(rows[:, 1] < 0):
+            orders = rows[:, 1]
+            if np.any(orders != np.round(orders)) or np.any(orders < 0) or np.any(orders > 7):
                 raise ScenarioError(f"{segment.where('conditions')}: each row is (time, order, "
-                                    "value) with a whole order >= 0")  # fmt: skip
+                                    "value) with a whole order from 0 to 7")  # fmt: skip
             task["conditions"].append([(t, int(order), value) for t, order, value in rows])
             segment.done()
         continuity = table.matrix("continuity", columns=2) if table.has("continuity") else None
+        if continuity is not None:
+            inner, orders = continuity[:, 0], continuity[:, 1]
+            whole = np.all(continuity == np.round(continuity))
+            if not whole or np.any(inner < 1) or np.any(inner > task["times"].size - 2) or \
+                    np.any(orders < 0) or np.any(orders > 6):  # fmt: skip
+                raise ScenarioError(f"{table.where('continuity')}: each row is (interior "
+                                    f"breakpoint 1..{task['times'].size - 2}, whole order "
+                                    "0..6)")  # fmt: skip
         task["continuity"] = None if continuity is None else [
             (int(index), int(order)) for index, order in continuity
         ]  # fmt: skip
@@ -212,6 +233,8 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
         task["center"] = table.numbers("center", count=3)
         task["a"] = table.number("a", positive=True)
         task["b"] = table.number("b")
+        if task["b"] < 0:
+            raise ScenarioError(f"{table.where('b')}: expected a semi-axis >= 0, got {task['b']:g}")
         task["duration"] = table.number("duration", positive=True)
         task["law"] = table.string(
             "law", "linear", choices=("linear", "cubic", "quintic", "septic")
@@ -237,11 +260,10 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
         task["duration"] = table.number("duration", positive=True)
         task["rate_hz"] = table.number("rate_hz", None, positive=True)
     elif kind == "goto":
-        task["goal"] = table.numbers("goal")
-        if task["goal"].size not in (2, 3):
-            raise ScenarioError(f"{table.where('goal')}: expected 2 or 3 numbers (x, y[, theta "
-                                f"in rad]), got {task['goal'].size}")  # fmt: skip
-        task["start"] = table.numbers("start", (0.0, 0.0, 0.0), count=3)
+        task["goal"] = table.numbers("goal", count=2)
+        task["heading"] = table.number("heading", None, angles=True)
+        task["start"] = table.numbers("start", (0.0, 0.0), count=2)
+        task["start_heading"] = table.number("start_heading", 0.0, angles=True)
         task["profile"] = table.string("profile", "trapezoid", choices=("trapezoid", "scurve"))
         task["blend_ratio"] = table.number("blend_ratio", None, positive=True)
         task["reverse"] = table.boolean("reverse", False)
@@ -253,7 +275,8 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
             "controller", "feedforward",
             choices=("feedforward", "kanayama", "linearization", "pure-pursuit"),
         )  # fmt: skip
-        task["offset"] = table.numbers("offset", (0.0, 0.0, 0.0), count=3)
+        task["offset"] = table.numbers("offset", (0.0, 0.0), count=2)
+        task["offset_heading"] = table.number("offset_heading", 0.0, angles=True)
         task["fit"] = table.boolean("fit", False)
     table.done()
     return task
@@ -266,8 +289,8 @@ def _limits(table: Table | None, mobile: bool) -> dict[str, Any]:
         else ("velocity", "acceleration", "jerk")  # fmt: skip
     limits = {}
     for key in keys:
-        if table.has(key):
-            angular = not mobile or key.startswith("angular")
+        angular = not mobile or key.startswith("angular")
+        if table.has(key, angles=angular):
             limits[key] = (table.number(key, angles=angular, positive=True) if mobile
                            else table.numbers(key, angles=angular, scalar_ok=True,
                                               positive=True))  # fmt: skip
@@ -285,20 +308,29 @@ def _simulation(table: Table | None, mobile: bool) -> dict[str, Any]:
     }
     if not mobile:
         simulation["controller"] = table.string("controller", "position", choices=arm_controllers)
+        if simulation["engine"] == "kinematic":
+            for key in ("rate_hz", "controller"):
+                if table.has(key):
+                    raise ScenarioError(f"{table.where(key)}: only used with engine = 'mujoco' "
+                                        "(a kinematic arm follows its plan exactly)")  # fmt: skip
     table.done()
     return simulation
 
 
 def _outputs(table: Table | None) -> dict[str, Any]:
-    defaults = {"csv": True, "plot": True, "animation": "none", "animation_fps": 10.0,
+    defaults = {"csv": True, "json": False, "npz": False, "plot": True, "animation": "none",
+                "animation_view": "3d", "animation_fps": 10.0,
                 "animation_speed": 1.0, "ros2_bag": False, "ros2_stream": "none",
                 "storage": "mcap"}  # fmt: skip
     if table is None:
         return defaults
     outputs = {
         "csv": table.boolean("csv", True),
+        "json": table.boolean("json", False),
+        "npz": table.boolean("npz", False),
         "plot": table.boolean("plot", True),
         "animation": table.string("animation", "none", choices=ANIMATIONS),
+        "animation_view": table.string("animation_view", "3d", choices=("3d", "xy", "xz", "yz")),
         "animation_fps": table.number("animation_fps", 10.0, positive=True),
         "animation_speed": table.number("animation_speed", 1.0, positive=True),
         "ros2_bag": table.boolean("ros2_bag", False),
@@ -307,5 +339,11 @@ def _outputs(table: Table | None) -> dict[str, Any]:
         ),
         "storage": table.string("storage", "mcap", choices=("mcap", "sqlite3")),
     }
+    if not 0.1 <= outputs["animation_fps"] <= 100.0:
+        raise ScenarioError(f"{table.where('animation_fps')}: expected 0.1 to 100 frames/s, got "
+                            f"{outputs['animation_fps']:g}")  # fmt: skip
+    if not 1e-3 <= outputs["animation_speed"] <= 1e3:
+        raise ScenarioError(f"{table.where('animation_speed')}: expected 0.001 to 1000, got "
+                            f"{outputs['animation_speed']:g}")  # fmt: skip
     table.done()
     return outputs

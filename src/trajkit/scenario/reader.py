@@ -51,9 +51,9 @@ class Table:
         """The key path of ``key`` in this table."""
         return f"{self.path}.{key}" if self.path else key
 
-    def has(self, key: str) -> bool:
-        """True when ``key`` (or ``key_deg``) is given."""
-        return key in self.data or f"{key}_deg" in self.data
+    def has(self, key: str, *, angles: bool = False) -> bool:
+        """True when ``key`` (or, for an angle, ``key_deg``) is given."""
+        return key in self.data or (angles and f"{key}_deg" in self.data)
 
     def _take(self, key: str, *, angles: bool) -> tuple[Any, str, float]:
         degrees = f"{key}_deg"
@@ -75,11 +75,10 @@ class Table:
             if default is _MISSING:
                 raise ScenarioError(f"{where}: required, expected a number")
             return default
-        if not _is_number(value) or not math.isfinite(value):
-            raise ScenarioError(f"{where}: expected a finite number, got {value!r}")
-        if positive and value <= 0:
+        number = _finite(value, where)
+        if positive and number <= 0:
             raise ScenarioError(f"{where}: expected a number > 0, got {value!r}")
-        return float(value) * scale
+        return number * scale
 
     def numbers(self, key: str, default: Any = _MISSING, *, count: int | None = None,
                 angles: bool = False, scalar_ok: bool = False,
@@ -165,6 +164,24 @@ class Table:
             )
 
 
+def _finite(value: object, where: str) -> float:
+    """``value`` as a finite float; TOML integers of any size are refused past float range."""
+    if not _is_number(value):
+        raise ScenarioError(f"{where}: expected a finite number, got {_short(value)}")
+    try:
+        number = float(value)  # type: ignore[arg-type]
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number):
+        raise ScenarioError(f"{where}: expected a finite number, got {_short(value)}")
+    return number
+
+
+def _short(value: object) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
 def _describe(value: object) -> str:
     if isinstance(value, list):
         return f"a list of {len(value)}"
@@ -186,10 +203,9 @@ def _vector(value: object, where: str, scale: float, *, count: int | None,
         raise ScenarioError(f"{where}: expected {count} numbers, got {len(items)}")
     if not items:
         raise ScenarioError(f"{where}: expected at least one number, got an empty list")
-    for index, item in enumerate(items):
-        if not _is_number(item) or not math.isfinite(item):
-            raise ScenarioError(f"{where}[{index}]: expected a finite number, got {item!r}")
+    numbers = [_finite(item, f"{where}[{index}]") for index, item in enumerate(items)]
+    for index, item in enumerate(numbers):
         if positive and item <= 0:
-            raise ScenarioError(f"{where}[{index}]: expected a number > 0, got {item!r}")
-    array = np.array(items, dtype=float) * scale
+            raise ScenarioError(f"{where}[{index}]: expected a number > 0, got {items[index]!r}")
+    array = np.array(numbers, dtype=float) * scale
     return float(array[0]) if scalar_ok and _is_number(value) else array
