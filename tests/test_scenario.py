@@ -44,7 +44,8 @@ def test_there_is_an_example_per_coursework_task():
     for expected in ("seed000_rrbot_cubic", "seed000_jackal_twist", "seed000_jackal_goto",
                      "seed001_six_joint_trapezoid", "seed001_via_points", "seed002_figure8",
                      "seed003_arm3_line", "seed002_two_link_ellipse",
-                     "seed004_via_point_polynomials", "ur5_pose_path",
+                     "seed004_example1_via_velocity", "seed004_example2_continuous_via",
+                     "ur5_pose_path",
                      "jerk_limited_waypoints"):  # fmt: skip
         assert expected in names
 
@@ -95,7 +96,7 @@ def test_examples_reproduce_the_coursework_figures(tmp_path):
 
 def test_seed004_polynomial_is_the_lecture_solution(tmp_path):
     folder = Path(__file__).parent.parent / "examples"
-    outcome = scenario.run(folder / "seed004_via_point_polynomials.toml", tmp_path, log=len)
+    outcome = scenario.run(folder / "seed004_example2_continuous_via.toml", tmp_path, log=len)
     expected = tk.polynomial(
         [[(0, 0, 0.0), (0, 1, 0.0), (1, 0, 0.5)], [(1, 0, 0.5), (3, 0, 1.0), (3, 1, 0.0)]],
         segments=[0, 1, 3], continuity=[(1, 2)],
