@@ -38,7 +38,7 @@ from rosbags.typesys.store import Typestore
 import trajkit as tk
 from support import assert_state, joint_arrays, limits_positive, ndofs
 from trajkit.errors import InvalidInputError, TrajkitError
-from trajkit.io import ros2
+from trajkit.io import atomic
 from trajkit.io.ros2 import Ros2Unavailable, write_bag
 from trajkit.mobile import MobileTrajectory, constant_twist, rotate_translate_rotate
 from trajkit.trajectory import sample_times
@@ -669,7 +669,7 @@ def test_a_failing_final_rename_keeps_the_old_bag(
             raise OSError("rename failed")  # the new bag into place; putting the old back works
         real(source, destination)
 
-    monkeypatch.setattr(ros2.os, "replace", replace)
+    monkeypatch.setattr(atomic.os, "replace", replace)
     with pytest.raises(OSError, match="rename failed"):
         write_bag(target, _septic())
     monkeypatch.undo()

@@ -13,11 +13,8 @@ and renamed into place, so a failure leaves no partial bag.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import re
-import shutil
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Literal
@@ -26,6 +23,7 @@ import numpy as np
 
 from trajkit._validation import FloatArray, positive_scalar
 from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.io.atomic import staged_files
 from trajkit.mobile.trajectory import MobileTrajectory
 from trajkit.trajectory import Trajectory, sample_times
 
@@ -293,9 +291,8 @@ def _atomic_bag(
         raise InvalidInputError(f"the bag's folder {folder} does not exist")
     if target.exists() and not (target / "metadata.yaml").is_file():
         raise InvalidInputError(f"{target} exists and is not a ROS 2 bag; not replacing it")
-    scratch = Path(tempfile.mkdtemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp"))
-    staged = scratch / target.name
-    try:
+    with staged_files() as stage:
+        staged = stage.folder(target)
         with writer_class(staged, version=9, storage_plugin=plugin) as writer:
             connections: dict[str, Any] = {}
             for topic, msgtype, stamp, message in messages:
@@ -303,17 +300,4 @@ def _atomic_bag(
                     connections[topic] = writer.add_connection(prefix + topic, msgtype,
                                                                typestore=types)  # fmt: skip
                 writer.write(connections[topic], stamp, types.serialize_cdr(message, msgtype))
-        old = scratch / (target.name + ".old")
-        if target.exists():
-            # Swap the old bag out, the new one in, then drop the old one.
-            os.replace(target, old)
-        try:
-            os.replace(staged, target)
-        except BaseException:
-            if old.exists():
-                os.replace(old, target)  # the old bag stays where it was
-            raise
-    finally:
-        with contextlib.suppress(OSError):
-            shutil.rmtree(scratch)
     return target
