@@ -180,12 +180,25 @@ def _solve(path: Trajectory, s: FloatArray, vel: list, acc: list, x_start: float
     # Per stage: forward x' = min_j ((1 + 2Δ r_j) x + 2Δ p_hi_j); backward from the
     # lower bounds. The passes are recurrences along the path: one loop over stages,
     # with every coefficient computed above for all stages at once.
-    grow_f = (1.0 + 2.0 * delta[:, None] * r_m[:-1]).tolist()
-    add_f = np.where(moving[:-1], 2.0 * delta[:, None] * hi_m[:-1], np.inf).tolist()
-    denominator = 1.0 + 2.0 * delta[:, None] * r_m[:-1]
-    usable = moving[:-1] & (denominator > 0)
+    # Each interval's u keeps the acceleration bounds at both of its ends (toppra's
+    # "interpolation" discretization): at the far end q̈ = q'(s+) u + q''(s+) (x + 2Δ u).
+    far = d1[1:] + 2.0 * delta[:, None] * d2[1:]
+    far_moving = np.abs(far) > _FLAT * scale
+    far_safe = np.where(far_moving, far, 1.0)
+    hi_far = np.where(far_moving, np.where(far > 0, acc[1], acc[0]) / far_safe, np.inf)
+    lo_far = np.where(far_moving, np.where(far > 0, acc[0], acc[1]) / far_safe, -np.inf)
+    r_far = np.where(far_moving, -d2[1:] / far_safe, 0.0)
+    moves = np.concatenate([moving[:-1], far_moving], axis=1)
+    rates = np.concatenate([r_m[:-1], r_far], axis=1)
+    highs = np.concatenate([hi_m[:-1], hi_far], axis=1)
+    lows = np.concatenate([lo_m[:-1], lo_far], axis=1)
+    twice = 2.0 * delta[:, None]
+    grow_f = (1.0 + twice * rates).tolist()
+    add_f = np.where(moves, twice * highs, np.inf).tolist()
+    denominator = 1.0 + twice * rates
+    usable = moves & (denominator > 0)
     shrink_b = np.where(usable, 1.0 / np.where(usable, denominator, 1.0), 0.0).tolist()
-    sub_b = np.where(usable, 2.0 * delta[:, None] * lo_m[:-1], 0.0).tolist()
+    sub_b = np.where(usable, twice * np.where(usable, lows, 0.0), 0.0).tolist()
     caps = cap.tolist()
     n = len(caps)
     if x_end > caps[-1] * (1 + 1e-9) or x_start > caps[0] * (1 + 1e-9):
