@@ -112,3 +112,22 @@ def test_limits_must_bound_velocity_and_acceleration_around_zero():
         topp(spline(1, 2), tk.Limits(velocity=(0.0, 1.0), acceleration=1.0))
     with pytest.raises(InvalidInputError, match="path must be a Trajectory"):
         topp("path", LIMITS)
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), grid=st.integers(5, 60))
+def test_the_closed_form_peaks_equal_the_timed_trajectorys_extrema(seed, grid):
+    from trajkit.topp import _grid, _peaks, _timed
+
+    rng = np.random.default_rng(seed)
+    path = spline(seed, 3)
+    points = _grid(path, grid)
+    x = rng.uniform(0.05, 2.0, points.size)  # any speed profile, not only optimal ones
+    vel, acc = [np.full(3, -1.0), np.full(3, 1.5)], [np.full(3, -2.0), np.full(3, 0.5)]
+    ratio_v, ratio_a = _peaks(path, points, x, vel, acc)
+    timed = _timed(path, points, x)
+    v, a = timed.extrema(1), timed.extrema(2)
+    expected_v = max(np.max(v.maximum / vel[1]), np.max(v.minimum / vel[0]))
+    expected_a = max(np.max(a.maximum / acc[1]), np.max(a.minimum / acc[0]))
+    assert ratio_v == pytest.approx(expected_v, rel=1e-9)
+    assert ratio_a == pytest.approx(expected_a, rel=1e-9)
