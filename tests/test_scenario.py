@@ -224,6 +224,32 @@ def _places(data, prefix=()):
 PLACES = list(_places(BASE))
 
 
+def mutated(base: dict, place: tuple, value, extra: bool) -> dict:
+    """A copy of ``base`` with the key at ``place`` removed (None), replaced, or joined by
+    an unknown sibling (``extra``); arrays of tables are entered at their first table."""
+    data = copy.deepcopy(base)
+    target = data
+    for key in place[:-1]:
+        target = target[key] if isinstance(target, dict) else target[0]
+        if isinstance(target, list):
+            target = target[0]
+    if value is None:
+        target.pop(place[-1], None)
+    elif extra:
+        target[f"{place[-1]}_x"] = value
+    else:
+        target[place[-1]] = value
+    return data
+
+
+def assert_only_the_documented_error(data: dict) -> None:
+    try:
+        spec = from_data(data)
+    except ScenarioError:
+        return
+    assert spec.name and spec.task["kind"]
+
+
 EXAMPLE_DATA = [tomllib.loads(path.read_text(encoding="utf-8")) for path in EXAMPLES]
 EXAMPLE_PLACES = [(index, place) for index, data in enumerate(EXAMPLE_DATA)
                   for place in _places(data)]  # fmt: skip
@@ -235,43 +261,13 @@ HUGE = st.integers() | st.integers(min_value=10**300, max_value=10**400) | st.fl
        extra=st.booleans())  # fmt: skip
 def test_fuzzed_example_files_raise_only_the_documented_error(where, value, extra):
     index, place = where
-    data = copy.deepcopy(EXAMPLE_DATA[index])
-    target = data
-    for key in place[:-1]:
-        target = target[key] if isinstance(target, dict) else target[0]
-    if not isinstance(target, dict):
-        return
-    if value is None:
-        target.pop(place[-1], None)
-    elif extra:
-        target[f"{place[-1]}_x"] = value
-    else:
-        target[place[-1]] = value
-    try:
-        spec = from_data(data)
-    except ScenarioError:
-        return
-    assert spec.name and spec.task["kind"]
+    assert_only_the_documented_error(mutated(EXAMPLE_DATA[index], place, value, extra))
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(place=st.sampled_from(PLACES), value=VALUES, extra=st.booleans())
 def test_fuzzed_scenarios_raise_only_the_documented_error(place, value, extra):
-    data = copy.deepcopy(BASE)
-    target = data
-    for key in place[:-1]:
-        target = target[key]
-    if value is None:
-        del target[place[-1]]
-    elif extra:
-        target[f"{place[-1]}_x"] = value
-    else:
-        target[place[-1]] = value
-    try:
-        spec = from_data(data)
-    except ScenarioError:
-        return
-    assert spec.name and spec.task["kind"]
+    assert_only_the_documented_error(mutated(BASE, place, value, extra))
 
 
 @settings(max_examples=100, deadline=None)

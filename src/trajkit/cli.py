@@ -25,7 +25,7 @@ from trajkit.cli_sim import (
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import staged_files
 from trajkit.limits import Limits
-from trajkit.profiles import cubic, quintic, scurve, septic, trapezoidal
+from trajkit.profiles import PLANNERS
 from trajkit.trajectory import Trajectory
 
 __all__ = ["main"]
@@ -45,17 +45,6 @@ PROFILES: dict[str, frozenset[str]] = {
 }
 for _name in ("cubic", "quintic", "septic"):
     PROFILES[_name] |= {"jmax"}
-
-
-def _planner(profile: str) -> Callable[..., Trajectory]:
-    planners = {
-        "cubic": cubic,
-        "quintic": quintic,
-        "septic": septic,
-        "trapezoid": trapezoidal,
-        "scurve": scurve,
-    }
-    return planners[profile]
 
 
 class CommandError(Exception):
@@ -214,7 +203,7 @@ def _plan(args: argparse.Namespace) -> int:
         kwargs["dt"] = args.dt
     elif args.sync != "time":
         raise CommandError(f"--sync applies to trapezoid and scurve profiles, not {args.profile}")
-    planner = _planner(args.profile)
+    planner = PLANNERS[args.profile]
     trajectory = planner(si(args.q0), si(args.qf), duration=args.duration, **kwargs)
     limits = Limits(velocity=kwargs["vmax"], acceleration=kwargs["amax"], jerk=kwargs.get("jmax"))
     for flag, path in (("--plot", args.plot), ("--sim-plot", args.sim_plot)):

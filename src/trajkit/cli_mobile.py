@@ -9,7 +9,6 @@ and ``--path-plot`` ask for, all together or not at all.
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -22,26 +21,23 @@ from trajkit.mobile import (
     MobileLimits,
     MobileTrajectory,
     SimulationLog,
-    Unicycle,
     constant_twist,
     flat_trajectory,
-    jackal,
     rotate_translate_rotate,
     simulate,
 )
 from trajkit.mobile.control import controller_named
 from trajkit.mobile.flatness import FigureEight
-from trajkit.mobile.models import Model
+from trajkit.mobile.models import BASES, Model
 
 __all__ = ["add_mobile_commands", "describe", "run_mobile"]
 
-ROBOTS: dict[str, Callable[[], Model]] = {"jackal": jackal, "unicycle": Unicycle}
 CONTROLLERS = ("feedforward", "kanayama", "linearization", "pure-pursuit")
 PLOT_SUFFIXES = {".png", ".svg", ".pdf"}
 
 
 def _outputs(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--robot", choices=sorted(ROBOTS), default="jackal",
+    parser.add_argument("--robot", choices=sorted(BASES), default="jackal",
                         help="base model and its default limits (default jackal)")  # fmt: skip
     parser.add_argument("--csv", type=Path, help="write the samples (SI units) to this CSV file")
     parser.add_argument("--plot", type=Path, help="velocities, position, heading against time")
@@ -183,7 +179,7 @@ def run_mobile(args: argparse.Namespace) -> int:
     if not args.dt > 0.0 or not np.isfinite(args.dt):
         raise InvalidInputError(f"--dt must be a time > 0 s, got {args.dt:g}")
     check_sim_options(args)
-    model = ROBOTS[args.robot]()
+    model = BASES[args.robot]()
     if args.sim == "mujoco" and not isinstance(model, DiffDrive):
         raise InvalidInputError(f"--sim mujoco needs a robot with wheels, not --robot {args.robot}")
     limits = _limits(model, args)

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -17,11 +16,10 @@ import numpy as np
 
 from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import StagedFiles
-from trajkit.kinematics import UR5, RRBot, SerialChain, Spatial3R
+from trajkit.kinematics import BUILTIN
 from trajkit.trajectory import Trajectory
 
 __all__ = [
-    "ARM_ROBOTS",
     "add_sim_options",
     "check_sim_options",
     "render_or_note",
@@ -29,12 +27,6 @@ __all__ = [
     "write_frames",
 ]
 
-ARM_ROBOTS: dict[str, Callable[[], SerialChain]] = {
-    "rrbot": RRBot,
-    "ur5": UR5,
-    # The course's 3-DOF arm (seed 003), its 5, 10, 8, 12 cm links in metres.
-    "arm3": lambda: Spatial3R(0.05, 0.10, 0.08, 0.12),
-}
 ARM_CONTROLLERS = ("position", "velocity", "pd_feedforward", "computed_torque")
 FRAME_COUNT = 4
 
@@ -63,7 +55,7 @@ def add_sim_options(parser: argparse.ArgumentParser, *, arm: bool) -> None:
     if arm:
         parser.add_argument(
             "--robot",
-            choices=sorted(ARM_ROBOTS),
+            choices=sorted(BUILTIN),
             default="rrbot",
             help="--sim mujoco: the simulated arm (default rrbot)",
         )
@@ -103,13 +95,12 @@ def simulate_arm(args: argparse.Namespace, trajectory: Trajectory) -> tuple[Any,
     """Run ``trajectory`` on the chosen arm in MuJoCo; the scene and the log."""
     from trajkit import sim
 
-    robot = ARM_ROBOTS[args.robot]()
+    robot = BUILTIN[args.robot]()
     if robot.ndof != trajectory.ndof:
         raise InvalidInputError(
             f"--robot {args.robot} has {robot.ndof} joints but the move has {trajectory.ndof}"
         )
-    presets = {"rrbot": sim.rrbot_scene, "ur5": sim.ur5_scene}
-    scene = presets[args.robot]() if args.robot in presets else sim.arm_scene(robot)
+    scene = sim.builtin_scene(args.robot, robot)
     log = sim.run(
         scene, trajectory, control_rate_hz=args.control_rate_hz, controller=args.controller
     )

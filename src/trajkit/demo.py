@@ -424,10 +424,10 @@ def run(out: str | Path, log: Log = print) -> list[Path]:
 def _runnable(spec: object, log: Log) -> bool:
     """Whether this machine has what the scenario needs; if not, say what to install."""
     from trajkit.errors import TrajkitError
-    from trajkit.scenario.execute import _preflight
+    from trajkit.scenario.execute import preflight
 
     try:
-        _preflight(spec)  # type: ignore[arg-type]
+        preflight(spec)  # type: ignore[arg-type]
     except TrajkitError as exc:
         log(f"  skipping {spec.name}: {exc}")  # type: ignore[attr-defined]
         return False

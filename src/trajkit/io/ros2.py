@@ -27,7 +27,7 @@ from trajkit.io.atomic import staged_files
 from trajkit.mobile.trajectory import MobileTrajectory
 from trajkit.trajectory import Trajectory, sample_times
 
-__all__ = ["Ros2Unavailable", "write_bag"]
+__all__ = ["Ros2Unavailable", "require_rosbags", "write_bag"]
 
 Storage = Literal["mcap", "sqlite3"]
 Stream = Literal["joint_state", "point"]
@@ -46,7 +46,8 @@ class Ros2Unavailable(TrajkitError):
     """The ``rosbags`` library is not installed."""
 
 
-def _rosbags() -> tuple[Any, Any, Any]:
+def require_rosbags() -> tuple[Any, Any, Any]:
+    """Rosbags' Writer, StoragePlugin and the ROS 2 Humble typestore; or Ros2Unavailable."""
     try:
         from rosbags.rosbag2 import StoragePlugin, Writer
         from rosbags.typesys import Stores, get_typestore
@@ -124,7 +125,7 @@ def write_bag(
     InvalidInputError
         For an unknown storage or stream, bad rates or names.
     """
-    writer_class, plugins, types = _rosbags()
+    writer_class, plugins, types = require_rosbags()
     if storage not in ("mcap", "sqlite3"):
         raise InvalidInputError(f"storage must be 'mcap' or 'sqlite3', got {storage!r}")
     if (not isinstance(start_ns, (int, np.integer)) or isinstance(start_ns, bool)

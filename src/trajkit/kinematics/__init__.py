@@ -11,10 +11,11 @@ Examples
 from trajkit.kinematics.chain import DHRow, Joint, SerialChain
 from trajkit.kinematics.drawing import link_positions
 from trajkit.kinematics.ik import IKSolution
-from trajkit.kinematics.robots import UR5, AnalyticChain, Planar2R, RRBot, Spatial3R
+from trajkit.kinematics.robots import BUILTIN, UR5, AnalyticChain, Planar2R, RRBot, Spatial3R
 from trajkit.kinematics.urdf import from_urdf
 
 __all__ = [
+    "BUILTIN",
     "UR5",
     "AnalyticChain",
     "DHRow",

@@ -655,15 +655,10 @@ def _multiply(a: FloatArray, b: FloatArray) -> FloatArray:
 
 
 def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Cross products along axis 1 of (ndof, 3, m) stacks (np.cross's axis handling is slow)."""
-    return np.stack(
-        [
-            a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
-            a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
-            a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
-        ],
-        axis=1,
-    )
+    """Cross products of component-major stacks, (..., 3, m) (np.cross's axis handling is slow)."""
+    x0, x1, x2 = a[..., 0, :], a[..., 1, :], a[..., 2, :]
+    y0, y1, y2 = b[..., 0, :], b[..., 1, :], b[..., 2, :]
+    return np.stack([x1 * y2 - x2 * y1, x2 * y0 - x0 * y2, x0 * y1 - x1 * y0], axis=-2)
 
 
 def _apply(rotation: FloatArray, vector: FloatArray) -> FloatArray:

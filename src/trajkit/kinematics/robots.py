@@ -20,7 +20,7 @@ from trajkit.rotations import homogeneous
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["UR5", "AnalyticChain", "Planar2R", "RRBot", "Spatial3R"]
+__all__ = ["BUILTIN", "UR5", "AnalyticChain", "Planar2R", "RRBot", "Spatial3R"]
 
 #: How far (relative to the arm's size) a target may lie outside the workspace
 #: and still count as on its boundary: rounding in the caller's own arithmetic.
@@ -397,3 +397,14 @@ def UR5() -> SerialChain:
         "wrist_3",
     ]
     return SerialChain.from_dh(table, names=names, name="UR5")
+
+
+#: The arms known by name on the command line and in scenario files.
+BUILTIN = {
+    "rrbot": RRBot,
+    "ur5": UR5,
+    # The course's 3-DOF arm (seed 003) with its 5, 10, 8 and 12 cm links in metres.
+    "arm3": lambda: Spatial3R(0.05, 0.10, 0.08, 0.12),
+    # Seed 002's two-link arm, L1 = 1 m and L2 = 0.8 m.
+    "planar2r": lambda: Planar2R(1.0, 0.8),
+}

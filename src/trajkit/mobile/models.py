@@ -222,6 +222,10 @@ def jackal() -> DiffDrive:
     )
 
 
+#: The wheeled robots known by name on the command line and in scenario files.
+BASES = {"jackal": jackal, "unicycle": Unicycle}
+
+
 def arc_pose(pose: ArrayLike, v: ArrayLike, omega: ArrayLike, duration: ArrayLike) -> FloatArray:
     """Pose(s) after driving a constant twist for ``duration`` (exact: a line or an arc).
 

@@ -7,6 +7,7 @@ from trajkit.profiles.trapezoidal import trapezoidal
 from trajkit.profiles.via import cubic_spline, cubic_via, quintic_via
 
 __all__ = [
+    "PLANNERS",
     "blended",
     "cubic",
     "cubic_spline",
@@ -18,3 +19,7 @@ __all__ = [
     "septic",
     "trapezoidal",
 ]
+
+#: The rest-to-rest planners by the profile names of the command line and scenario files.
+PLANNERS = {"cubic": cubic, "quintic": quintic, "septic": septic, "trapezoid": trapezoidal,
+            "scurve": scurve}  # fmt: skip

@@ -18,25 +18,18 @@ import trajkit as tk
 from trajkit import mobile
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import StagedFiles, staged_files
-from trajkit.kinematics import UR5, DHRow, Planar2R, RRBot, SerialChain, Spatial3R, from_urdf
+from trajkit.kinematics import BUILTIN, DHRow, SerialChain, from_urdf
+from trajkit.mobile.models import BASES
+from trajkit.profiles import PLANNERS
 from trajkit.scenario.parse import Scenario
 from trajkit.scenario.reader import ScenarioError
 from trajkit.trajectory import Trajectory
 
-__all__ = ["Outcome", "execute", "report_entry", "robot_of"]
+__all__ = ["Outcome", "execute", "preflight", "report_entry", "robot_of"]
 
 Log = Callable[[str], None]
 #: Sampling period of CSV files when the scenario sets no controller period (s).
 SAMPLE_PERIOD = 0.01
-PLANNERS = {"cubic": tk.cubic, "quintic": tk.quintic, "septic": tk.septic,
-            "trapezoid": tk.trapezoidal, "scurve": tk.scurve}  # fmt: skip
-ARM_BUILDERS: dict[str, Callable[[], SerialChain]] = {
-    "rrbot": RRBot,
-    "ur5": UR5,
-    "arm3": lambda: Spatial3R(0.05, 0.10, 0.08, 0.12),  # the course's arm, in metres
-    "planar2r": lambda: Planar2R(1.0, 0.8),
-}
-BASES = {"jackal": mobile.jackal, "unicycle": mobile.Unicycle}
 
 
 @dataclass(frozen=True)
@@ -70,7 +63,7 @@ def robot_of(scenario: Scenario) -> Any:
         return None
     if "builtin" in robot:
         name = robot["builtin"]
-        return (BASES[name] if scenario.mobile else ARM_BUILDERS[name])()
+        return (BASES[name] if scenario.mobile else BUILTIN[name])()
     if "dh" in robot:
         rows = [DHRow(r["a"], r["alpha"], r["d"], r["theta"], r["kind"], r["lower"], r["upper"])
                 for r in robot["dh"]]  # fmt: skip
@@ -95,7 +88,7 @@ def execute(
     TrajkitError
         When a library the outputs need is missing, or simulating fails.
     """
-    _preflight(scenario)
+    preflight(scenario)
     robot = robot_of(scenario)
     lines = [f"scenario {scenario.name}" + (f": {scenario.description}" if scenario.description
                                             else "")]  # fmt: skip
@@ -134,13 +127,13 @@ def execute(
     return Outcome(plan, checked, run, files, lines)
 
 
-def _preflight(scenario: Scenario) -> None:
+def preflight(scenario: Scenario) -> None:
     """Refuse at once what the outputs need and this machine lacks, before any work."""
     outputs = scenario.outputs
     if outputs["ros2_bag"]:
-        from trajkit.io.ros2 import _rosbags
+        from trajkit.io.ros2 import require_rosbags
 
-        _rosbags()
+        require_rosbags()
     if outputs["animation"] == "mp4":
         import shutil
 
@@ -323,9 +316,7 @@ def _simulate(scenario: Scenario, robot: Any, plan: Any, extra: Any, lines: list
         return None
     from trajkit import sim
 
-    presets = {"rrbot": sim.rrbot_scene, "ur5": sim.ur5_scene}
-    builtin = scenario.robot.get("builtin")
-    scene = presets[builtin]() if builtin in presets else sim.arm_scene(robot)
+    scene = sim.builtin_scene(scenario.robot.get("builtin"), robot)
     run = sim.run(scene, plan, control_rate_hz=rate, controller=scenario.simulation["controller"])
     lines += ["  simulated in MuJoCo, " + line for line in run.summary().splitlines()[:1]]
     lines += ["  " + line for line in run.summary().splitlines()[1:]]

@@ -16,12 +16,14 @@ from typing import Any
 
 import numpy as np
 
+from trajkit.kinematics.robots import BUILTIN
+from trajkit.mobile.models import BASES
 from trajkit.scenario.reader import ScenarioError, Table
 
 __all__ = ["ARM_ROBOTS", "MOBILE_ROBOTS", "TASKS", "Scenario", "from_data", "load", "parse"]
 
-ARM_ROBOTS = ("rrbot", "ur5", "arm3", "planar2r")
-MOBILE_ROBOTS = ("jackal", "unicycle")
+ARM_ROBOTS = tuple(BUILTIN)
+MOBILE_ROBOTS = tuple(BASES)
 ARM_TASKS = ("joint_move", "waypoints", "polynomial", "line", "ellipse", "poses")
 #: Tasks planned in joint space alone: they need no robot unless simulated or animated.
 JOINT_TASKS = ("joint_move", "waypoints", "polynomial")

@@ -17,7 +17,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from trajkit._validation import FloatArray
-from trajkit.kinematics.chain import SerialChain
+from trajkit.kinematics.chain import SerialChain, _cross
 from trajkit.sim.engine import mujoco_module
 
 __all__ = ["inverse_dynamics"]
@@ -94,13 +94,6 @@ def inverse_dynamics(
         torque[:, i] = (axes[i] * along).sum(axis=0)
     armature, damping = model.dof_armature[dofs], model.dof_damping[dofs]
     return torque + armature * qdd + damping * qd + model.opt.timestep * implicit * qdd
-
-
-def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Cross products of component-major (3, m) stacks."""
-    return np.stack(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
 
 
 def _rotate(rotation: FloatArray, vector: FloatArray) -> FloatArray:

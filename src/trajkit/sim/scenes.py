@@ -23,7 +23,15 @@ from trajkit.mobile.models import DiffDrive, jackal
 from trajkit.sim.controllers import ArmController, arm_controller, is_torque_control
 from trajkit.sim.mjcf import Actuator, arm_extent, chain_mjcf, diff_drive_mjcf
 
-__all__ = ["ArmScene", "MobileScene", "arm_scene", "jackal_scene", "rrbot_scene", "ur5_scene"]
+__all__ = [
+    "ArmScene",
+    "MobileScene",
+    "arm_scene",
+    "builtin_scene",
+    "jackal_scene",
+    "rrbot_scene",
+    "ur5_scene",
+]
 
 _CACHED_MODELS = 8
 
@@ -293,3 +301,9 @@ def ur5_scene(**parameters: object) -> ArmScene:
 def jackal_scene(**parameters: object) -> MobileScene:
     """A :class:`MobileScene` of :func:`~trajkit.mobile.jackal` (17 kg, 0.098 m wheels)."""
     return MobileScene(jackal(), **parameters)  # type: ignore[arg-type]
+
+
+def builtin_scene(name: str | None, robot: SerialChain) -> ArmScene:
+    """The scene of a built-in arm by its name (with its masses), else ``arm_scene(robot)``."""
+    presets = {"rrbot": rrbot_scene, "ur5": ur5_scene}
+    return presets[name]() if name in presets else arm_scene(robot)
