@@ -31,6 +31,7 @@ from trajkit.profiles import (
     trapezoidal,
 )
 from trajkit.samples import Samples
+from trajkit.topp import topp
 from trajkit.trajectory import Extrema, State, Trajectory
 
 __version__ = "0.1.0"
@@ -61,6 +62,7 @@ __all__ = [
     "quintic_via",
     "scurve",
     "septic",
+    "topp",
     "trapezoidal",
 ]
 

@@ -1,0 +1,244 @@
+"""Time-optimal path parameterization: the fastest timing of a fixed path.
+
+Given a geometric path ``q(s)`` and per-joint velocity and acceleration bounds,
+:func:`topp` finds the fastest ``s(t)`` by reachability analysis (Pham & Pham,
+2018) on a grid in ``s``, each stage solved in closed form and each pass a
+vectorized scan (:mod:`trajkit.topp.reachability`). The result is exact between
+grid points too (:mod:`trajkit.topp.timing`): ``q(s(t))`` is a Trajectory of
+polynomials whose limits :meth:`~trajkit.Trajectory.check` verifies exactly.
+
+Why the result keeps every limit everywhere, not only at the grid points: the
+stage constraints hold at both ends of each interval, and in between the timed
+polynomials' extrema are computed exactly. An interval whose peak passes a bound
+has that bound tightened locally (its acceleration bounds scaled by the ratio, the
+velocity caps at its ends lowered to the speed that would have kept it) and the
+problem is re-solved; this converges in a few rounds and costs far less duration
+than a global margin. Should it not, the whole motion is slowed uniformly by
+``max(v_peak / v_max, sqrt(a_peak / a_max))`` (rest-to-rest motions only, as
+slowing would change non-zero boundary speeds). Jerk limits: see
+:mod:`trajkit.topp.jerk`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit import _poly
+from trajkit._validation import FloatArray, finite_scalar
+from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.limits import Limits
+from trajkit.topp.reachability import Channels, Stages
+from trajkit.topp.timing import GeometricPath, as_polynomial, interval_peaks, pieces_of, timed
+from trajkit.trajectory import Trajectory
+
+__all__ = ["GeometricPath", "topp"]
+
+#: Rounds of local tightening before the uniform slow-down.
+_ROUNDS = 12
+#: A peak within this fraction of its bound counts as kept (check()'s default rtol).
+_KEPT = 1e-9
+#: Tightened bounds aim this fraction inside the bound, so a round rarely falls short.
+_MARGIN = 1e-6
+
+
+def topp(
+    path: Trajectory | GeometricPath,
+    limits: Limits,
+    *,
+    grid: int | ArrayLike = 500,
+    start_speed: float = 0.0,
+    end_speed: float = 0.0,
+) -> Trajectory:
+    """The time-optimal timing of ``path`` under velocity and acceleration limits.
+
+    Parameters
+    ----------
+    path : Trajectory or GeometricPath
+        The geometric path ``q(s)``: a Trajectory (its time axis read as the path
+        parameter ``s``), or any object with ``evaluate(s, order)`` (orders 0–2)
+        and ``breakpoints`` (the range of ``s``), which is first replaced by the
+        quintic Hermite spline through its derivatives at the grid points.
+    limits : Limits
+        ``velocity`` and ``acceleration`` bounds per joint (rad/s, rad/s² or m/s,
+        m/s²; asymmetric allowed, each lower bound < 0 < upper bound). A ``jerk``
+        bound switches to the jerk-limited timing of :func:`trajkit.topp.jerk.smoothed`.
+        Position limits are not the timing's business and are ignored.
+    grid : int or array_like
+        Number of grid intervals (uniform in ``s``; the path's breakpoints are
+        added), or the grid points themselves. More points, a shorter timing.
+    start_speed, end_speed : float
+        Path speeds ``ṡ`` at the start and at the end (units of ``s`` per second),
+        >= 0. Jerk-limited timings start and end at rest.
+
+    Returns
+    -------
+    Trajectory
+        ``q(t)`` from t = 0: the path timed, one polynomial piece per grid
+        interval, of twice the path's degree. ``info`` holds ``grid_points``,
+        ``path_speed`` (ṡ at each), ``rounds`` (solves needed), ``slow_down`` (the
+        uniform factor, 1 if none) and ``path_error`` (0 for a Trajectory path).
+
+    Raises
+    ------
+    InvalidInputError
+        Malformed path, limits, grid or speeds.
+    InfeasibleError
+        The boundary speeds cannot be met within the limits, or the path cannot
+        be traversed (a joint's acceleration bound of one sign is 0).
+
+    Examples
+    --------
+    >>> import numpy as np, trajkit as tk
+    >>> path = tk.cubic_spline([0, 0.5, 1], [[0, 0], [1, -0.5], [0.5, 1]], bc="natural")
+    >>> limits = tk.Limits(velocity=1.0, acceleration=2.0)
+    >>> timed = tk.topp(path, limits, grid=200)
+    >>> timed.check(limits).ok
+    True
+    """
+    limits = _checked_limits(limits)
+    if not isinstance(path, Trajectory) and not hasattr(path, "breakpoints"):
+        raise InvalidInputError(
+            "path must be a Trajectory or have evaluate(s, order) and breakpoints, got "
+            f"{type(path).__name__}"
+        )
+    points = grid_points(np.asarray(path.breakpoints, dtype=float), grid)
+    polynomial, stray = as_polynomial(path, points)
+    ndof = polynomial.ndof
+    speeds = (finite_scalar("start_speed", start_speed, unit="1/s"),
+              finite_scalar("end_speed", end_speed, unit="1/s"))  # fmt: skip
+    if min(speeds) < 0.0:
+        raise InvalidInputError(f"start_speed and end_speed must be >= 0, got {list(speeds)}")
+    velocity = _sides(limits, "velocity", ndof)
+    acceleration = _sides(limits, "acceleration", ndof)
+    if limits.jerk is not None:
+        from trajkit.topp.jerk import smoothed
+
+        if max(speeds) > 0.0:
+            raise InvalidInputError(
+                "a jerk-limited timing starts and ends at rest: start_speed and end_speed "
+                f"must be 0, got {list(speeds)}"
+            )
+        return smoothed(polynomial, points, limits, stray)
+    x, rounds, slow = optimal_x(polynomial, points, velocity, acceleration, speeds)
+    result = timed(polynomial, points, x)
+    if slow != 1.0:
+        result = result.time_scaled(slow)
+    info = {"planner": "topp", "grid_points": points, "path_speed": np.sqrt(x) / slow,
+            "rounds": rounds, "slow_down": slow, "path_error": stray}  # fmt: skip
+    return Trajectory(result.breakpoints, result.coefficients, info=info)
+
+
+def optimal_x(
+    path: Trajectory,
+    s: FloatArray,
+    velocity: tuple[FloatArray, FloatArray],
+    acceleration: tuple[FloatArray, FloatArray],
+    speeds: tuple[float, float] = (0.0, 0.0),
+) -> tuple[FloatArray, int, float]:
+    """``x = ṡ²`` at the grid points, tightened until the timed path keeps every limit.
+
+    Returns ``x``, the number of solves, and the uniform slow-down still needed
+    (1 unless the local tightening did not converge).
+    """
+    stages = Stages(path_channels(path, s, velocity, acceleration))
+    n = s.size
+    velocity_factor, acceleration_scale = np.ones(n), np.ones(n - 1)
+    x_start, x_end = speeds[0] ** 2, speeds[1] ** 2
+    for rounds in range(1, _ROUNDS + 1):
+        x = stages.solve(x_start, x_end, velocity_factor, acceleration_scale)
+        ratio_v, ratio_a = interval_peaks(path, s, x, velocity, acceleration)
+        over_v, over_a = ratio_v > 1.0 + _KEPT, ratio_a > 1.0 + _KEPT
+        if not (over_v.any() or over_a.any()):
+            return x, rounds, 1.0
+        acceleration_scale[over_a] /= ratio_a[over_a] * (1.0 + _MARGIN)
+        # The ends of an interval that ran too fast may carry at most the speed that
+        # would have kept it: x / ratio², as a factor on the velocity cap.
+        factor = (1.0 - _MARGIN) / ratio_v**2
+        target = np.full(n, np.inf)
+        target[:-1] = np.where(over_v, x[:-1] * factor, np.inf)
+        target[1:] = np.minimum(target[1:], np.where(over_v, x[1:] * factor, np.inf))
+        target[0], target[-1] = max(target[0], x_start), max(target[-1], x_end)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            wanted = target / stages.velocity_cap
+        velocity_factor = np.minimum(velocity_factor, np.where(np.isnan(wanted), np.inf, wanted))
+    if x_start > 0.0 or x_end > 0.0:
+        raise InfeasibleError(
+            "the timing could not be made to keep every limit between grid points with "
+            "non-zero boundary speeds: use a finer grid or lower boundary speeds"
+        )
+    return x, _ROUNDS, float(max(ratio_v.max(), np.sqrt(ratio_a.max()), 1.0) * (1 + 1e-12))
+
+
+def path_channels(
+    path: Trajectory,
+    s: FloatArray,
+    velocity: tuple[FloatArray, FloatArray],
+    acceleration: tuple[FloatArray, FloatArray],
+) -> Channels:
+    """A joint path's channels: one per joint, with corners where its tangent jumps."""
+    piece, offset = pieces_of(path, s)
+    local = _poly.shift_origin(path.coefficients[:, piece, :], -offset[:, None])
+    slope = _poly.derivative(local, 1)
+    scale = max(float(np.abs(slope[-1]).max()), 1.0)
+    inner = path.breakpoints[1:-1]
+    corners = np.zeros(0, dtype=int)
+    if inner.size:
+        left = path.evaluate(np.nextafter(inner, -np.inf), 1)
+        jumps = np.abs(left - path.evaluate(inner, 1)).max(axis=1) > 1e-9 * scale
+        corners = np.searchsorted(s, inner[jumps])
+    return Channels(s, slope, velocity, acceleration, corners)
+
+
+def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
+    """The grid in ``s``: ``grid`` uniform intervals or the given points, plus breakpoints."""
+    if breakpoints.ndim != 1 or breakpoints.size < 2 or not np.all(np.isfinite(breakpoints)):
+        raise InvalidInputError("the path's breakpoints must be at least 2 finite numbers")
+    start, end = float(breakpoints[0]), float(breakpoints[-1])
+    if end <= start:
+        raise InvalidInputError("the path has no length to time")
+    if isinstance(grid, (int, np.integer)) and not isinstance(grid, bool):
+        if grid < 2:
+            raise InvalidInputError(f"grid must be at least 2 intervals, got {grid}")
+        points = np.linspace(start, end, int(grid) + 1)
+    else:
+        try:
+            points = np.asarray(grid, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"grid must be a number of intervals or increasing points, got {grid!r}"
+            ) from None
+        if points.ndim != 1 or points.size < 3 or not np.all(np.diff(points) > 0):
+            raise InvalidInputError("grid points must be at least 3 increasing numbers")
+        if points[0] != start or points[-1] != end:
+            raise InvalidInputError(
+                f"grid points must start and end with the path, at {start:g} and {end:g}"
+            )
+    # The path's own breakpoints are grid points, so every interval lies in one piece.
+    points = np.union1d(points, breakpoints)
+    keep = np.append(np.diff(points) > 1e-12 * (end - start), True)
+    out = points[keep]
+    out[-1] = end
+    return out
+
+
+def _checked_limits(limits: object) -> Limits:
+    if not isinstance(limits, Limits) or limits.velocity is None or limits.acceleration is None:
+        raise InvalidInputError(
+            "limits must be a trajkit.Limits with velocity and acceleration bounds, got "
+            f"{limits!r}"
+        )
+    return limits
+
+
+def _sides(limits: Limits, quantity: str, ndof: int) -> tuple[FloatArray, FloatArray]:
+    lower, upper = getattr(limits, quantity).for_ndof(quantity, ndof)
+    lower, upper = np.array(lower, dtype=float), np.array(upper, dtype=float)
+    if np.any(lower >= 0.0) or np.any(upper <= 0.0):
+        raise InvalidInputError(
+            f"{quantity} bounds must have lower < 0 < upper for every joint, got "
+            f"({lower.tolist()}, {upper.tolist()})"
+        )
+    if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
+        raise InvalidInputError(f"{quantity} bounds must be finite for a time-optimal timing")
+    return lower, upper

@@ -1,0 +1,448 @@
+"""Reachability analysis in the phase plane ``(s, x = ṡ²)``, stage problems in closed form.
+
+The constraints are *channels*: quantities whose rate is ``c'(s) ṡ`` and whose
+second time derivative is ``c'(s) u + c''(s) x`` with ``u = s̈`` — joint angles,
+but also a wheeled base's travelled distance and heading. Each channel may bound
+its rate, its acceleration, or both.
+
+On the grid ``s_0 < ... < s_N``, ``u`` is constant on each interval and every
+interval keeps the acceleration bounds at both of its ends (the "interpolation"
+discretization). Every bound is then affine in the interval's start ``x_i``:
+``L_j(x_i) <= u <= U_k(x_i)``, and both passes are recurrences of the form
+
+    y_next = clip(min_j (a_j y + b_j), 0, h)
+
+(the backward pass: the largest ``x_i`` from which ``x_{i+1}`` can still be
+reached; the forward pass: accelerate as hard as the bounds and the reachable set
+allow). With one term per stage such a stage is a clipped affine map, and clipped
+affine maps compose into clipped affine maps, so a whole pass is a prefix scan of
+function compositions: ``log2 N`` vectorized steps, no loop per stage. Which term
+is active at each stage is guessed, the scan run, and the guess checked against
+every term at the values found; mismatched stages are re-guessed, and after a few
+rounds an exact stage-by-stage loop takes over, so the answer never depends on
+the guess.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from math import comb
+
+import numpy as np
+
+from trajkit._validation import FloatArray
+from trajkit.errors import InfeasibleError
+
+__all__ = ["Channels", "Stages"]
+
+#: A channel whose path derivative is below this (relative) does not bound ``u``.
+_FLAT = 1e-12
+#: Re-runs of the recurrence with re-picked lines before every line is used.
+_ROUNDS = 4
+
+
+@dataclass(frozen=True)
+class Channels:
+    """What the timing must respect: each channel's path derivative and its bounds.
+
+    Attributes
+    ----------
+    s : ndarray, shape (N + 1,)
+        Grid points.
+    slope : ndarray, shape (K + 1, N, m)
+        On each interval, ``c'(σ)`` of each of the ``m`` channels as a polynomial in
+        ``σ = s - s_i`` (descending powers, :mod:`trajkit._poly` layout).
+    velocity, acceleration : tuple of ndarray, shape (m,)
+        ``(lower, upper)`` bounds on ``ċ`` and ``c̈`` (units of the channel per
+        second and per second squared); ``-inf`` / ``inf`` where unbounded.
+    corners : ndarray of int
+        Grid indices where the path's tangent jumps: the path must stop there.
+    """
+
+    s: FloatArray
+    slope: FloatArray
+    velocity: tuple[FloatArray, FloatArray]
+    acceleration: tuple[FloatArray, FloatArray]
+    corners: np.ndarray
+
+
+def _bernstein(degree: int) -> FloatArray:
+    """``B`` with ``b = B @ a``: Bernstein coefficients on [0, 1] from ascending powers."""
+    out = np.zeros((degree + 1, degree + 1))
+    for c in range(degree + 1):
+        for j in range(c + 1):
+            out[c, j] = comb(c, j) / comb(degree, j)
+    return out
+
+
+class Stages:
+    """The per-stage coefficients of both passes, computed once for a grid.
+
+    Every interval's rows bound the *Bernstein coefficients* of the channels'
+    acceleration and squared rate over the interval, not only their values at the
+    ends. A polynomial lies within the hull of its Bernstein coefficients, and both
+    quantities are linear in ``(x_i, u)`` with polynomial coefficients in ``σ``:
+
+    * acceleration ``c̈(σ) = c''(σ) x_i + (c'(σ) + 2σ c''(σ)) u``;
+    * squared rate ``ċ(σ)² = c'(σ)² ((1 - τ) x_i + τ x_{i+1})`` with ``τ = σ / Δ``,
+      bounded by the rate bound of the side the channel moves to.
+
+    So a timing that keeps every row keeps the limits on the whole interval, for
+    polynomial channels exactly; the hull overestimates by ``O(Δ²)`` only. The
+    first and last coefficients are the values at the interval's ends.
+
+    Limits can then be tightened per grid point (velocity) and per interval
+    (acceleration) and the problem re-solved cheaply: only the bounds' offsets scale.
+    """
+
+    def __init__(self, channels: Channels) -> None:
+        s, slope = channels.s, channels.slope
+        vel_lo, vel_hi = channels.velocity
+        acc_lo, acc_hi = channels.acceleration
+        delta = np.diff(s)
+        self.delta = delta
+        degree = max(slope.shape[0] - 1, 1)
+        # c'(τ Δ) in ascending powers of τ, shape (K + 1, N, m).
+        ascending = np.zeros((degree + 1, *slope.shape[1:]))
+        ascending[: slope.shape[0]] = slope[::-1]
+        ascending *= delta[None, :, None] ** np.arange(degree + 1)[:, None, None]
+        powers = np.arange(degree + 1)[:, None, None]
+        rate_of = np.zeros_like(ascending)  # c''(σ) = (d/dτ c') / Δ
+        rate_of[:-1] = powers[1:] * ascending[1:] / delta[None, :, None]
+        hull = _bernstein(degree)
+        at_end = ascending.sum(axis=0)  # c' at τ = 1, (N, m)
+        # Values at the grid points (from the right; the last from the left), for the
+        # maximum velocity curve; velocity caps from both sides, as the tangent may jump.
+        first = np.concatenate([ascending[0], at_end[-1:]], axis=0)
+        second = np.concatenate([rate_of[0], rate_of.sum(axis=0)[-1:]], axis=0)
+        scale = float(np.abs(first).max()) or 1.0
+        left = np.concatenate([ascending[0][:1], at_end], axis=0)
+        self.velocity_cap = np.minimum(_rate_cap(first, vel_lo, vel_hi, scale),
+                                       _rate_cap(left, vel_lo, vel_hi, scale))  # fmt: skip
+        near = _affine(first[-1:], second[-1:], acc_lo, acc_hi, scale)
+        end_cap = _maximum_velocity_curve(*near, first[-1:], second[-1:], acc_lo, acc_hi, scale)
+        # Acceleration rows: Bernstein coefficients of c'' (on x_i) and c' + 2σ c'' (on u).
+        on_u = np.einsum("cj,jnm->cnm", hull, (1.0 + 2.0 * powers) * ascending)
+        on_x = np.einsum("cj,jnm->cnm", hull, rate_of)
+        # Stages along axis 0, rows along axis 1.
+        slope_u, curve_x = (r.transpose(1, 0, 2).reshape(delta.size, -1) for r in (on_u, on_x))
+        low_b = np.tile(acc_lo, on_u.shape[0])
+        high_b = np.tile(acc_hi, on_u.shape[0])
+        valid, rate, high, low = _affine_rows(slope_u, curve_x, low_b, high_b,
+                                              np.asarray(_FLAT * scale))  # fmt: skip
+        # Each stage's own maximum velocity curve: the largest x_i for which some u
+        # keeps every acceleration row of the interval, found by Newton steps from
+        # above. Only up to a few times the velocity cap matters; where that is
+        # infinite (every channel still), pairs of rows give the start.
+        start = 4.0 * self.velocity_cap[:-1]
+        unbounded = np.flatnonzero(~np.isfinite(start))
+        if unbounded.size:
+            rows = (valid, rate, high, low, slope_u, curve_x)
+            start[unbounded] = _maximum_velocity_curve(
+                *(r[unbounded] for r in rows), low_b, high_b, scale
+            )
+        stage_cap = _feasible_below(start, valid, rate, high, low)
+        self._rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, scale)
+        self.acceleration_cap = np.concatenate([stage_cap, end_cap])
+        self._exact = np.zeros(delta.size + 1, dtype=bool)
+        self.velocity_cap = self._rates_inside(ascending, vel_lo, vel_hi)
+        twice = 2.0 * delta[:, None]
+        # Forward: x_{i+1} = x_i + 2Δu <= (1 + 2Δr) x_i + 2Δ p_hi for every row.
+        self._grow = 1.0 + twice * rate
+        self._push = np.where(valid & np.isfinite(high), twice * high, np.inf)
+        # Backward: x_i <= (x_{i+1} - 2Δ p_lo) / (1 + 2Δr) where 1 + 2Δr > 0; where
+        # it is not, the lower bound only asks x_i >= a negative number.
+        usable = valid & (self._grow > 0.0) & np.isfinite(low)
+        self._shrink = np.where(usable, 1.0 / np.where(usable, self._grow, 1.0), 0.0)
+        self._pull = np.where(usable, twice * np.where(usable, low, 0.0), 0.0)
+        self._usable = usable
+        self.corners = channels.corners
+
+    def _rates_inside(self, ascending: FloatArray, vel_lo: FloatArray, vel_hi: FloatArray
+                      ) -> FloatArray:  # fmt: skip
+        """Velocity caps that keep the rates on the whole of every interval.
+
+        With ``x`` linear on an interval, ``ċ² = c'(τ)² ((1 - τ) x_i + τ x_{i+1})``. Let
+        ``w`` be the caps at the points and ``ρ`` the largest ratio of this rate² to its
+        bound when ``x = w`` at both ends (an upper bound, from the Bernstein
+        coefficients); then ``x <= w / ρ`` at both ends keeps the bound throughout.
+        ``ρ`` exceeds 1 by ``O(Δ²)`` where the caps vary smoothly.
+        """
+        degree = ascending.shape[0] - 1
+        w = np.minimum(self.velocity_cap, self.acceleration_cap)
+        finite = np.isfinite(w)
+        if not finite.any():
+            return self.velocity_cap
+        w = np.where(finite, w, w[finite].max())
+        square = np.zeros((2 * degree + 1, *ascending.shape[1:]))
+        for i in range(degree + 1):
+            square[i : i + degree + 1] += ascending[i] * ascending
+        g = np.einsum("cj,jnm->cnm", _bernstein(2 * degree), square)  # c'² in Bernstein form
+        top = 2 * degree + 1
+        c = np.arange(top + 1)[:, None, None]
+        at_start = np.zeros((top + 1, *g.shape[1:]))
+        at_end = np.zeros_like(at_start)
+        at_start[:-1] = (top - c[:-1]) / top * g  # degree elevation by the linear x(τ)
+        at_end[1:] = c[1:] / top * g
+        rate2 = (at_start * w[:-1, None] + at_end * w[1:, None]).max(axis=0)  # (N, m)
+        hull = np.einsum("cj,jnm->cnm", _bernstein(degree), ascending)
+        side = np.where((hull >= 0).all(axis=0), vel_hi,
+                        np.where((hull <= 0).all(axis=0), -vel_lo, np.minimum(vel_hi, -vel_lo)))  # fmt: skip
+        rho = np.maximum((rate2 / side**2).max(axis=1), 1.0)
+        around = np.maximum(np.append(rho, 1.0), np.insert(rho, 0, 1.0))
+        return np.minimum(self.velocity_cap, w / around)
+
+    def caps(self, velocity_factor: FloatArray, acceleration_scale: FloatArray) -> FloatArray:
+        """The maximum velocity curve (in x) with the limits tightened."""
+        around = np.append(acceleration_scale, acceleration_scale[-1])
+        cap = np.minimum(self.velocity_cap * velocity_factor, self.acceleration_cap * around)
+        cap[self.corners] = 0.0
+        return np.maximum(cap, 0.0)
+
+    def solve(
+        self,
+        x_start: float,
+        x_end: float,
+        velocity_factor: FloatArray | None = None,
+        acceleration_scale: FloatArray | None = None,
+    ) -> FloatArray:
+        """The time-optimal ``x`` at every grid point.
+
+        ``velocity_factor`` (per grid point) multiplies the velocity caps on x;
+        ``acceleration_scale`` (per interval) multiplies the interval's acceleration
+        bounds. Both default to 1.
+        """
+        n = self.delta.size + 1
+        if velocity_factor is None:
+            velocity_factor = np.ones(n)
+        if acceleration_scale is None:
+            acceleration_scale = np.ones(n - 1)
+        cap = self.caps(velocity_factor, acceleration_scale)
+        if x_start > cap[0] * (1 + 1e-9) or x_end > cap[-1] * (1 + 1e-9):
+            raise InfeasibleError("the boundary path speeds break the limits at the path's ends")
+        scale = acceleration_scale[:, None]
+        # Backward, from the end: reach_i = clip(min_j shrink (reach_{i+1} - pull), 0, cap_i).
+        a = self._shrink[::-1]
+        b = np.where(self._usable, -self._shrink * self._pull * scale, np.inf)[::-1]
+        end = min(x_end, cap[-1])
+        reach = np.empty(n)
+        reach[-1] = end
+        reach[:-1] = recurrence(a, b, cap[-2::-1], end)[::-1]
+        if x_start > reach[0] * (1 + 1e-9):
+            raise InfeasibleError(
+                f"start_speed {np.sqrt(x_start):g} is too fast to keep the limits along the path"
+            )
+        # Forward: x_{i+1} = clip(min_j (grow x_i + push), 0, reach_{i+1}).
+        x = np.empty(n)
+        x[0] = min(x_start, reach[0])
+        x[1:] = recurrence(self._grow, self._push * scale, reach[1:], x[0])
+        x[-1] = min(x_end, reach[-1])
+        u = (x[1:] - x[:-1]) / (2.0 * self.delta)
+        valid, rate, high, low, slope_u, curve_x, low_b, high_b, size = self._rows
+        with np.errstate(invalid="ignore"):
+            lows = np.where(valid & np.isfinite(low), low * scale + rate * x[:-1, None], -np.inf)
+        need = lows.max(axis=1)
+        # Rounding in x_{i+1} - x_i is amplified by 1 / 2Δ in u: allow for it.
+        slack = 1e-10 * (np.abs(need) + x[:-1] / (2.0 * self.delta))
+        stuck = np.flatnonzero(u < need - slack)
+        if stuck.size and not self._exact[stuck].all():
+            # A stage with no u between its rows at the x it was given: its own
+            # maximum velocity curve, from all pairs of rows, and solve again.
+            pick = stuck[~self._exact[stuck]]
+            self.acceleration_cap[pick] = np.minimum(self.acceleration_cap[pick],
+                _maximum_velocity_curve(valid[pick], rate[pick], high[pick], low[pick],
+                                        slope_u[pick], curve_x[pick], low_b, high_b, size))  # fmt: skip
+            self._exact[pick] = True
+            return self.solve(x_start, x_end, velocity_factor, acceleration_scale)
+        return x
+
+
+def _rate_cap(slope: FloatArray, lower: FloatArray, upper: FloatArray, scale: float) -> FloatArray:
+    """The largest x with ``c' ṡ`` within its side's bound, for every point."""
+    moving = np.abs(slope) > _FLAT * scale
+    side = np.where(slope > 0, upper, -lower)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cap = np.where(moving, (side / np.where(moving, np.abs(slope), 1.0)) ** 2, np.inf)
+    return np.min(cap, axis=1)
+
+
+def _affine_rows(
+    slope: FloatArray, curve: FloatArray, lower: FloatArray, upper: FloatArray,
+    threshold: FloatArray,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
+    """``lower <= slope u + curve x <= upper`` as ``lo + r x <= u <= hi + r x``, per row."""
+    valid = np.abs(slope) > threshold
+    safe = np.where(valid, slope, 1.0)
+    with np.errstate(invalid="ignore"):
+        hi = np.where(valid, np.where(slope > 0, upper, lower) / safe, np.inf)
+        lo = np.where(valid, np.where(slope > 0, lower, upper) / safe, -np.inf)
+    r = np.where(valid, -curve / safe, 0.0)
+    return valid, r, hi, lo
+
+
+def _affine(
+    slope: FloatArray, curve: FloatArray, lower: FloatArray, upper: FloatArray, scale: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`_affine_rows` with one threshold, relative to the largest slope ``scale``."""
+    return _affine_rows(slope, curve, lower, upper, np.asarray(_FLAT * scale))
+
+
+def _maximum_velocity_curve(
+    valid: FloatArray,
+    r: FloatArray,
+    hi: FloatArray,
+    lo: FloatArray,
+    d1: FloatArray,
+    d2: FloatArray,
+    acc_lo: FloatArray,
+    acc_hi: FloatArray,
+    scale: float,
+) -> FloatArray:
+    """The largest x at each grid point with ``max_j L_j(x) <= min_k U_k(x)``."""
+    # A still channel (c' = 0) bounds x itself: a_lo <= c'' x <= a_hi.
+    still = ~(np.abs(d1) > _FLAT * scale)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        bend = np.where(d2 > 0, acc_hi / d2, np.where(d2 < 0, acc_lo / d2, np.inf))
+    cap = np.min(np.where(still & ~np.isnan(bend), bend, np.inf), axis=1)
+    hi_m = np.where(valid, hi, np.inf)
+    lo_m = np.where(valid, lo, -np.inf)
+    slope = r[:, :, None] - r[:, None, :]  # L_j rises faster than U_k
+    with np.errstate(divide="ignore", invalid="ignore"):
+        room = hi_m[:, None, :] - lo_m[:, :, None]
+        crossing = np.where(slope > 0, room / np.where(slope > 0, slope, 1.0),
+                            np.where(room < 0, 0.0, np.inf))  # fmt: skip
+    crossing = np.where(np.isnan(crossing), np.inf, crossing)
+    return np.maximum(np.minimum(cap, crossing.min(axis=(1, 2))), 0.0)
+
+
+def _feasible_below(
+    cap: FloatArray, valid: FloatArray, rate: FloatArray, high: FloatArray, low: FloatArray
+) -> FloatArray:
+    """Lower each stage's ``cap`` to the largest x where all its rows leave room for u.
+
+    ``room(x) = min_k U_k(x) - max_j L_j(x)`` is concave and piecewise linear; from an
+    x where it is negative, the root of its active piece is still at or beyond the
+    largest root (a concave function lies below its pieces' lines), so a few such
+    Newton steps from the right land on it exactly.
+    """
+    rows = np.arange(cap.size)
+    upper = np.where(valid, high, np.inf)
+    lower = np.where(valid, low, -np.inf)
+    slopes = np.where(valid, rate, 0.0)
+    x = cap.copy()
+    for _ in range(8):
+        with np.errstate(invalid="ignore"):
+            u_hi, u_lo = upper + slopes * x[:, None], lower + slopes * x[:, None]
+        k, j = np.argmin(u_hi, axis=1), np.argmax(u_lo, axis=1)
+        room = u_hi[rows, k] - u_lo[rows, j]
+        short = np.isfinite(x) & (room < -1e-12 * np.maximum(np.abs(u_hi[rows, k]), 1e-300))
+        if not short.any():
+            return x
+        fall = slopes[rows, j] - slopes[rows, k]  # how fast the room shrinks with x
+        with np.errstate(divide="ignore", invalid="ignore"):
+            root = np.where(fall > 0, x + room / np.where(fall > 0, fall, 1.0), 0.0)
+        x = np.where(short, np.maximum(root, 0.0), x)
+    return np.maximum(x, 0.0)
+
+
+def recurrence(a: FloatArray, b: FloatArray, high: FloatArray, y0: float) -> FloatArray:
+    """``y_{k+1} = clip(min_j (a_kj y_k + b_kj), 0, high_k)`` for every stage ``k``.
+
+    Parameters
+    ----------
+    a, b : ndarray, shape (n, m)
+        The terms of each stage; a term with ``b = inf`` never binds.
+    high : ndarray, shape (n,)
+        Each stage's upper clip; ``y_k`` lies in ``[0, high_{k-1}]``.
+    y0 : float
+        The value entering the first stage.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        ``y_1 ... y_n``.
+
+    Notes
+    -----
+    Only the lower envelope of each stage's lines over the inputs it can receive
+    matters, and it is almost always made of the lines lowest at the ends and the
+    middle of that range (found for all stages at once): the recurrence runs over
+    those three per stage. Its result is then checked against every line at once;
+    a stage where another line was lower gets all its lines, and the recurrence is
+    re-run from there, so the answer is exact whatever the probes missed.
+    """
+    n = high.size
+    rows = np.arange(n)
+    reach = np.concatenate([[y0], high[:-1]])  # the largest input of each stage
+    with np.errstate(invalid="ignore", over="ignore"):
+        ends = [np.argmin(b, axis=1), np.argmin(a * reach[:, None] + b, axis=1)]
+        middle = np.argmin(a * (0.5 * reach)[:, None] + b, axis=1)
+    caps = high.tolist()
+    every: dict[int, tuple[list[float], list[float]]] = {}
+    y = np.empty(n)
+    start, entering = 0, y0
+    latest = middle
+    for _ in range(_ROUNDS):
+        y[start:] = _run(_columns(a, b, high, [*ends, middle, latest]), caps, every, start,
+                         entering)  # fmt: skip
+        before = np.concatenate([[y0], y[:-1]])
+        with np.errstate(invalid="ignore", over="ignore"):
+            terms = a * before[:, None] + b
+        exact = np.clip(terms.min(axis=1), 0.0, high)
+        missed = np.flatnonzero(exact < y - 1e-12 * np.abs(y))
+        if missed.size == 0:
+            return y
+        # The values found are close: the line lowest at each stage's input now is
+        # most likely the envelope's piece there. The earlier picks stay.
+        middle, latest = latest, np.argmin(terms, axis=1)
+        start = int(missed[0])
+        entering = float(before[start])
+    every = {k: (a[k].tolist(), b[k].tolist()) for k in range(start, n)}
+    y[start:] = _run(_columns(a, b, high, [*ends, middle, latest]), caps, every, start, entering)
+    return y
+
+
+def _columns(a: FloatArray, b: FloatArray, high: FloatArray, picks: list) -> list[list[float]]:
+    """The picked lines of every stage as plain lists; a stage whose lines never
+    bind (``b = inf``) becomes the constant clip."""
+    rows = np.arange(high.size)
+    lines = [(a[rows, j], b[rows, j]) for j in picks]
+    dead = np.logical_and.reduce([~np.isfinite(offset) for _, offset in lines])
+    columns = []
+    for slope, offset in lines:
+        columns += [np.where(dead, 0.0, slope).tolist(), np.where(dead, high, offset).tolist()]
+    return columns
+
+
+def _run(
+    columns: list[list[float]],
+    caps: list[float],
+    every: dict[int, tuple[list[float], list[float]]],
+    start: int,
+    y: float,
+) -> list[float]:
+    """The recurrence from stage ``start`` over four picked lines per stage (all of
+    them for the stages in ``every``)."""
+    p1, q1, p2, q2, p3, q3, p4, q4 = (column[start:] for column in columns)
+    out = []
+    for k, (a1, b1, a2, b2, a3, b3, a4, b4, cap) in enumerate(
+        zip(p1, q1, p2, q2, p3, q3, p4, q4, caps[start:], strict=True), start
+    ):
+        best = a1 * y + b1
+        value = a2 * y + b2
+        if value < best:
+            best = value
+        value = a3 * y + b3
+        if value < best:
+            best = value
+        value = a4 * y + b4
+        if value < best:
+            best = value
+        if every and k in every:
+            for p, q in zip(*every[k], strict=True):
+                value = p * y + q
+                if value < best:
+                    best = value
+        y = cap if best > cap else (best if best > 0.0 else 0.0)
+        out.append(y)
+    return out

@@ -1,0 +1,179 @@
+"""A path timed by a phase-plane profile: its exact polynomials and their peaks.
+
+With ``x = ṡ²`` linear in ``s`` on each grid interval (``u = s̈`` constant there),
+``s(t)`` is a quadratic in time, so a polynomial path ``q(s)`` timed by it is again
+a polynomial, ``q(s(t))``, of twice the path's degree: the timed path is an
+ordinary :class:`~trajkit.Trajectory` whose limits are checked exactly.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+
+from trajkit import _poly
+from trajkit._validation import FloatArray
+from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.profiles.polynomial import hermite_pieces
+from trajkit.trajectory import Trajectory
+
+__all__ = ["GeometricPath", "as_polynomial", "interval_peaks", "timed"]
+
+
+class GeometricPath(Protocol):
+    """What :func:`~trajkit.topp.topp` needs of a path that is not a Trajectory.
+
+    ``breakpoints`` spans the path parameter's range (and marks where a derivative
+    may jump); ``evaluate(s, order)`` gives the ``order``-th derivative in ``s``
+    (orders 0 to 2) at the parameters ``s`` (n,), shape (n, ndof).
+    """
+
+    @property
+    def breakpoints(self) -> FloatArray: ...
+
+    def evaluate(self, s: FloatArray, order: int) -> FloatArray: ...
+
+
+def as_polynomial(path: object, s: FloatArray) -> tuple[Trajectory, float]:
+    """``path`` as a piecewise polynomial in ``s``, and how far it strays from it.
+
+    A Trajectory is its own polynomial (stray 0). Any other path is replaced by the
+    quintic Hermite spline through its position, first and second derivatives at
+    the grid points ``s``; the stray is the largest distance between the two at
+    the intervals' quarter and middle points (units of the path).
+    """
+    if isinstance(path, Trajectory):
+        return path, 0.0
+    if not callable(getattr(path, "evaluate", None)):
+        raise InvalidInputError(
+            "path must be a Trajectory or have evaluate(s, order) and breakpoints, got "
+            f"{type(path).__name__}"
+        )
+    try:
+        derivatives = np.stack([np.asarray(path.evaluate(s, k), dtype=float) for k in range(3)])
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"path.evaluate(s, order) failed on the grid: {exc}") from None
+    if derivatives.ndim != 3 or derivatives.shape[1] != s.size:
+        raise InvalidInputError(
+            f"path.evaluate(s, order) must return shape (len(s), ndof), got {derivatives.shape[1:]}"
+        )
+    if not np.all(np.isfinite(derivatives)):
+        raise InvalidInputError("path.evaluate(s, order) returned NaN or inf on the grid")
+    pieces = hermite_pieces(derivatives[:, :-1], derivatives[:, 1:], np.diff(s)[:, None])
+    polynomial = Trajectory(s, pieces)
+    probes = (s[:-1, None] + np.diff(s)[:, None] * np.array([0.25, 0.5, 0.75])).ravel()
+    stray = np.abs(polynomial.evaluate(probes) - np.asarray(path.evaluate(probes, 0))).max()
+    return polynomial, float(stray)
+
+
+def pieces_of(path: Trajectory, s: FloatArray) -> tuple[np.ndarray, FloatArray]:
+    """The path piece each interval lies in, and the interval's offset into it."""
+    piece = np.clip(np.searchsorted(path.breakpoints, s[:-1], side="right") - 1, 0,
+                    path.coefficients.shape[1] - 1)  # fmt: skip
+    return piece, s[:-1] - path.breakpoints[piece]
+
+
+def timed(path: Trajectory, s: FloatArray, x: FloatArray) -> Trajectory:
+    """``q(s(t))`` as a Trajectory, one piece per grid interval, starting at t = 0."""
+    speed = np.sqrt(x)
+    delta = np.diff(s)
+    total = speed[:-1] + speed[1:]
+    if np.any(total <= 0.0):
+        raise InfeasibleError("the path speed vanishes on a whole interval: the path is not "
+                              "traversable within the limits")  # fmt: skip
+    durations = 2.0 * delta / total
+    u = (x[1:] - x[:-1]) / (2.0 * delta)
+    piece, offset = pieces_of(path, s)
+    local = path.coefficients[:, piece, :]  # (d + 1, M, ndof)
+    degree = local.shape[0] - 1
+    # sigma(tau) = offset + speed tau + u tau^2 / 2, in ascending powers of tau.
+    sigma = np.stack([offset, speed[:-1], u / 2.0], axis=1)  # (M, 3)
+    result = np.zeros((local.shape[1], 2 * degree + 1, path.ndof))
+    power = np.ones((local.shape[1], 1))
+    for m in range(degree + 1):  # q = sum_m a_m sigma^m: degree + 1 terms, all intervals at once
+        result[:, : power.shape[1], :] += power[:, :, None] * local[degree - m][:, None, :]
+        grown = np.zeros((power.shape[0], power.shape[1] + 2))
+        for shift in range(3):  # power * sigma, for every interval at once
+            grown[:, shift : shift + power.shape[1]] += power * sigma[:, shift : shift + 1]
+        power = grown
+    coefficients = result[:, ::-1, :].transpose(1, 0, 2)  # highest power first, (k + 1, M, ndof)
+    breakpoints = np.concatenate([[0.0], np.cumsum(durations)])
+    return Trajectory(breakpoints, np.ascontiguousarray(coefficients))
+
+
+def interval_peaks(
+    path: Trajectory,
+    s: FloatArray,
+    x: FloatArray,
+    velocity: tuple[FloatArray, FloatArray],
+    acceleration: tuple[FloatArray, FloatArray],
+) -> tuple[FloatArray, FloatArray]:
+    """The largest ratio of joint velocity and of acceleration to its bound, per interval.
+
+    Exact on the whole interval, from the polynomials' extrema (the sign of each
+    value is matched with its side's bound). Cubic paths have closed forms; others
+    are timed and their extrema found from the roots of the next derivative.
+    """
+    if path.degree <= 3:
+        return _cubic_peaks(path, s, x, velocity, acceleration)
+    curve = timed(path, s, x)
+    lengths = np.diff(curve.breakpoints)
+    out = []
+    for order, (lower, upper) in ((1, velocity), (2, acceleration)):
+        c = curve._coefficients_of(order)
+        k1, m, ndof = c.shape
+        low, _, high, _ = _poly.extrema_on_intervals(c.reshape(k1, m * ndof),
+                                                     np.repeat(lengths, ndof))  # fmt: skip
+        ratio = np.maximum(high.reshape(m, ndof) / upper, low.reshape(m, ndof) / lower)
+        out.append(ratio.max(axis=1))
+    return out[0], out[1]
+
+
+def _cubic_peaks(
+    path: Trajectory,
+    s: FloatArray,
+    x: FloatArray,
+    velocity: tuple[FloatArray, FloatArray],
+    acceleration: tuple[FloatArray, FloatArray],
+) -> tuple[FloatArray, FloatArray]:
+    """Closed forms on a path of degree <= 3, without building the timed polynomials.
+
+    On an interval ``x`` is linear in ``s``, so ``q̈ = q'' x + q' s̈`` is a quadratic
+    in ``σ = s - s_i`` (extremes at the ends and the vertex), and ``q̇ = q' ṡ`` peaks
+    at the ends or where ``q̈`` vanishes.
+    """
+    delta = np.diff(s)
+    u = (x[1:] - x[:-1]) / (2.0 * delta)
+    piece, w0 = pieces_of(path, s)
+    c = np.zeros((4, piece.size, path.ndof))
+    c[4 - path.coefficients.shape[0] :] = path.coefficients[:, piece, :]
+    a3, a2, a1 = c[0], c[1], c[2]  # q = a3 w^3 + a2 w^2 + a1 w + a0 in the piece's variable w
+    w0 = w0[:, None]
+    # In sigma: q' = d0 + d1 sigma + d2 sigma^2, q'' = d1 + 2 d2 sigma.
+    d0 = 3 * a3 * w0**2 + 2 * a2 * w0 + a1
+    d1 = 6 * a3 * w0 + 2 * a2
+    d2 = 3 * a3
+    xi, ui = x[:-1, None], u[:, None]
+    # q̈(sigma) = (d1 + 2 d2 sigma)(xi + 2 ui sigma) + (d0 + d1 sigma + d2 sigma^2) ui
+    #          = A sigma^2 + B sigma + C
+    big_a = 5 * d2 * ui
+    big_b = 3 * d1 * ui + 2 * d2 * xi
+    big_c = d1 * xi + d0 * ui
+    width = np.broadcast_to(delta[:, None], big_a.shape)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vertex = np.where(big_a != 0, -big_b / (2 * big_a), 0.0)
+        root = np.sqrt(np.maximum(big_b**2 - 4 * big_a * big_c, 0.0))
+        flat = np.abs(big_a) <= 1e-300
+        root1 = np.where(
+            flat, np.where(big_b != 0, -big_c / big_b, 0.0), (-big_b + root) / (2 * big_a)
+        )
+        root2 = np.where(flat, 0.0, (-big_b - root) / (2 * big_a))
+    zero = np.zeros_like(width)
+    accel = np.stack([big_a * t**2 + big_b * t + big_c
+                      for t in (zero, width, np.clip(vertex, 0, width))])  # fmt: skip
+    where = np.stack([np.clip(root1, 0, width), np.clip(root2, 0, width), zero, width])
+    speed = (d0 + d1 * where + d2 * where**2) * np.sqrt(np.maximum(xi + 2 * ui * where, 0.0))
+    ratio_v = np.maximum(speed.max(axis=0) / velocity[1], speed.min(axis=0) / velocity[0])
+    ratio_a = np.maximum(accel.max(axis=0) / acceleration[1], accel.min(axis=0) / acceleration[0])
+    return ratio_v.max(axis=1), ratio_a.max(axis=1)
