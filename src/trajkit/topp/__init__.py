@@ -225,8 +225,7 @@ def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
 def _checked_limits(limits: object) -> Limits:
     if not isinstance(limits, Limits) or limits.velocity is None or limits.acceleration is None:
         raise InvalidInputError(
-            "limits must be a trajkit.Limits with velocity and acceleration bounds, got "
-            f"{limits!r}"
+            f"limits must be a trajkit.Limits with velocity and acceleration bounds, got {limits!r}"
         )
     return limits
 

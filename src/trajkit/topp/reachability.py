@@ -186,8 +186,10 @@ class Stages:
         at_end[1:] = c[1:] / top * g
         rate2 = (at_start * w[:-1, None] + at_end * w[1:, None]).max(axis=0)  # (N, m)
         hull = np.einsum("cj,jnm->cnm", _bernstein(degree), ascending)
+        # The bound of the side the channel moves to; both sides' tighter one if it turns.
+        either = np.minimum(vel_hi, -vel_lo)
         side = np.where((hull >= 0).all(axis=0), vel_hi,
-                        np.where((hull <= 0).all(axis=0), -vel_lo, np.minimum(vel_hi, -vel_lo)))  # fmt: skip
+                        np.where((hull <= 0).all(axis=0), -vel_lo, either))  # fmt: skip
         rho = np.maximum((rate2 / side**2).max(axis=1), 1.0)
         around = np.maximum(np.append(rho, 1.0), np.insert(rho, 0, 1.0))
         return np.minimum(self.velocity_cap, w / around)
@@ -249,9 +251,9 @@ class Stages:
             # A stage with no u between its rows at the x it was given: its own
             # maximum velocity curve, from all pairs of rows, and solve again.
             pick = stuck[~self._exact[stuck]]
-            self.acceleration_cap[pick] = np.minimum(self.acceleration_cap[pick],
-                _maximum_velocity_curve(valid[pick], rate[pick], high[pick], low[pick],
-                                        slope_u[pick], curve_x[pick], low_b, high_b, size))  # fmt: skip
+            rows = (valid, rate, high, low, slope_u, curve_x)
+            exact = _maximum_velocity_curve(*(r[pick] for r in rows), low_b, high_b, size)
+            self.acceleration_cap[pick] = np.minimum(self.acceleration_cap[pick], exact)
             self._exact[pick] = True
             return self.solve(x_start, x_end, velocity_factor, acceleration_scale)
         return x
@@ -372,7 +374,6 @@ def recurrence(a: FloatArray, b: FloatArray, high: FloatArray, y0: float) -> Flo
     re-run from there, so the answer is exact whatever the probes missed.
     """
     n = high.size
-    rows = np.arange(n)
     reach = np.concatenate([[y0], high[:-1]])  # the largest input of each stage
     with np.errstate(invalid="ignore", over="ignore"):
         ends = [np.argmin(b, axis=1), np.argmin(a * reach[:, None] + b, axis=1)]
@@ -403,8 +404,10 @@ def recurrence(a: FloatArray, b: FloatArray, high: FloatArray, y0: float) -> Flo
 
 
 def _columns(a: FloatArray, b: FloatArray, high: FloatArray, picks: list) -> list[list[float]]:
-    """The picked lines of every stage as plain lists; a stage whose lines never
-    bind (``b = inf``) becomes the constant clip."""
+    """The picked lines of every stage as plain lists.
+
+    A stage none of whose picked lines binds (``b = inf``) becomes the constant clip.
+    """
     rows = np.arange(high.size)
     lines = [(a[rows, j], b[rows, j]) for j in picks]
     dead = np.logical_and.reduce([~np.isfinite(offset) for _, offset in lines])
@@ -421,8 +424,10 @@ def _run(
     start: int,
     y: float,
 ) -> list[float]:
-    """The recurrence from stage ``start`` over four picked lines per stage (all of
-    them for the stages in ``every``)."""
+    """The recurrence from stage ``start`` over four picked lines per stage.
+
+    Stages in ``every`` also go through all of their lines.
+    """
     p1, q1, p2, q2, p3, q3, p4, q4 = (column[start:] for column in columns)
     out = []
     for k, (a1, b1, a2, b2, a3, b3, a4, b4, cap) in enumerate(

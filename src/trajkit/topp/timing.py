@@ -30,9 +30,13 @@ class GeometricPath(Protocol):
     """
 
     @property
-    def breakpoints(self) -> FloatArray: ...
+    def breakpoints(self) -> FloatArray:
+        """Parameters where a derivative may jump, from the first to the last."""
+        ...
 
-    def evaluate(self, s: FloatArray, order: int) -> FloatArray: ...
+    def evaluate(self, s: FloatArray, order: int) -> FloatArray:
+        """The ``order``-th derivative in ``s`` at the parameters ``s``, shape (n, ndof)."""
+        ...
 
 
 def as_polynomial(path: object, s: FloatArray) -> tuple[Trajectory, float]:
