@@ -21,6 +21,8 @@ slowing would change non-zero boundary speeds). Jerk limits: see
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -135,13 +137,17 @@ def optimal_x(
     velocity: tuple[FloatArray, FloatArray],
     acceleration: tuple[FloatArray, FloatArray],
     speeds: tuple[float, float] = (0.0, 0.0),
+    stops: ArrayLike = (),
 ) -> tuple[FloatArray, int, float]:
     """``x = ṡ²`` at the grid points, tightened until the timed path keeps every limit.
 
+    ``stops`` are grid indices where the path must come to rest besides its corners.
     Returns ``x``, the number of solves, and the uniform slow-down still needed
     (1 unless the local tightening did not converge).
     """
-    stages = Stages(path_channels(path, s, velocity, acceleration))
+    channels = path_channels(path, s, velocity, acceleration)
+    corners = np.union1d(channels.corners, np.asarray(stops, dtype=int))
+    stages = Stages(dataclasses.replace(channels, corners=corners))
     n = s.size
     velocity_factor, acceleration_scale = np.ones(n), np.ones(n - 1)
     x_start, x_end = speeds[0] ** 2, speeds[1] ** 2
@@ -180,14 +186,19 @@ def path_channels(
     piece, offset = pieces_of(path, s)
     local = _poly.shift_origin(path.coefficients[:, piece, :], -offset[:, None])
     slope = _poly.derivative(local, 1)
-    scale = max(float(np.abs(slope[-1]).max()), 1.0)
-    inner = path.breakpoints[1:-1]
-    corners = np.zeros(0, dtype=int)
-    if inner.size:
-        left = path.evaluate(np.nextafter(inner, -np.inf), 1)
-        jumps = np.abs(left - path.evaluate(inner, 1)).max(axis=1) > 1e-9 * scale
-        corners = np.searchsorted(s, inner[jumps])
+    corners = np.searchsorted(s, jumps(path, 1))
     return Channels(s, slope, velocity, acceleration, corners)
+
+
+def jumps(path: Trajectory, order: int) -> FloatArray:
+    """The path's inner breakpoints where its ``order``-th derivative jumps."""
+    inner = path.breakpoints[1:-1]
+    if not inner.size:
+        return inner
+    left = path.evaluate(np.nextafter(inner, -np.inf), order)
+    right = path.evaluate(inner, order)
+    scale = max(float(np.abs(path.evaluate(path.breakpoints, order)).max()), 1.0)
+    return inner[np.abs(left - right).max(axis=1) > 1e-9 * scale]
 
 
 def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:

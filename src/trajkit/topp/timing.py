@@ -18,7 +18,7 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.profiles.polynomial import hermite_pieces
 from trajkit.trajectory import Trajectory
 
-__all__ = ["GeometricPath", "as_polynomial", "interval_peaks", "timed"]
+__all__ = ["GeometricPath", "as_polynomial", "compose", "interval_peaks", "pieces_of", "timed"]
 
 
 class GeometricPath(Protocol):
@@ -89,21 +89,42 @@ def timed(path: Trajectory, s: FloatArray, x: FloatArray) -> Trajectory:
     durations = 2.0 * delta / total
     u = (x[1:] - x[:-1]) / (2.0 * delta)
     piece, offset = pieces_of(path, s)
-    local = path.coefficients[:, piece, :]  # (d + 1, M, ndof)
+    # s(tau) - s_piece = offset + speed tau + u tau^2 / 2, in ascending powers of tau.
+    sigma = np.stack([offset, speed[:-1], u / 2.0], axis=1)
+    return compose(path, np.concatenate([[0.0], np.cumsum(durations)]), sigma, piece)
+
+
+def compose(path: Trajectory, times: FloatArray, sigma: FloatArray, piece: np.ndarray
+            ) -> Trajectory:  # fmt: skip
+    """``q(σ(τ))`` on every time piece: ``σ`` is the piece's polynomial in the local time.
+
+    Parameters
+    ----------
+    path : Trajectory
+    times : ndarray, shape (M + 1,)
+        Breakpoints of the result.
+    sigma : ndarray, shape (M, d + 1)
+        On each time piece, the path parameter relative to the start of path piece
+        ``piece[i]``, in ascending powers of the local time.
+    piece : ndarray of int, shape (M,)
+        The path piece each time piece lies in.
+    """
+    local = path.coefficients[:, piece, :]  # (k + 1, M, ndof)
     degree = local.shape[0] - 1
-    # sigma(tau) = offset + speed tau + u tau^2 / 2, in ascending powers of tau.
-    sigma = np.stack([offset, speed[:-1], u / 2.0], axis=1)  # (M, 3)
-    result = np.zeros((local.shape[1], 2 * degree + 1, path.ndof))
-    power = np.ones((local.shape[1], 1))
-    for m in range(degree + 1):  # q = sum_m a_m sigma^m: degree + 1 terms, all intervals at once
+    order = sigma.shape[1] - 1
+    count = local.shape[1]
+    result = np.zeros((count, degree * order + 1, path.ndof))
+    power = np.ones((count, 1))
+    for m in range(degree + 1):  # q = sum_m a_m sigma^m: degree + 1 terms, all pieces at once
         result[:, : power.shape[1], :] += power[:, :, None] * local[degree - m][:, None, :]
-        grown = np.zeros((power.shape[0], power.shape[1] + 2))
-        for shift in range(3):  # power * sigma, for every interval at once
+        if m == degree:
+            break
+        grown = np.zeros((count, power.shape[1] + order))
+        for shift in range(order + 1):  # power * sigma, for every piece at once
             grown[:, shift : shift + power.shape[1]] += power * sigma[:, shift : shift + 1]
         power = grown
-    coefficients = result[:, ::-1, :].transpose(1, 0, 2)  # highest power first, (k + 1, M, ndof)
-    breakpoints = np.concatenate([[0.0], np.cumsum(durations)])
-    return Trajectory(breakpoints, np.ascontiguousarray(coefficients))
+    coefficients = result[:, ::-1, :].transpose(1, 0, 2)  # highest power first, (K + 1, M, ndof)
+    return Trajectory(times, np.ascontiguousarray(coefficients))
 
 
 def interval_peaks(
