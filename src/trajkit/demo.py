@@ -16,7 +16,15 @@ from trajkit import mobile
 from trajkit.io.atomic import StagedFiles, staged_files
 from trajkit.kinematics import Planar2R, SerialChain, Spatial3R
 from trajkit.mobile import MobileTrajectory, SimulationLog
-from trajkit.taskspace import Ellipse, JointSpacePlan, Line, TaskTrajectory, timed, to_joint_space
+from trajkit.taskspace import (
+    Ellipse,
+    JointSpacePlan,
+    Line,
+    TaskTrajectory,
+    time_optimal,
+    timed,
+    to_joint_space,
+)
 
 __all__ = ["EXAMPLES", "run"]
 
@@ -132,6 +140,37 @@ def seed003_task_space_line(out: Path, stage: StagedFiles, log: Log) -> None:
         f"peak rates {peak.round(4).tolist()} deg/s; {'OK' if plan.ok else plan.problems()}"
     )
     _arm_outputs(out, stage, "seed003_arm", robot, motion, plan, "Seed 003: 3-DOF arm", "3d")
+
+
+def seed003_time_optimal_line(out: Path, stage: StagedFiles, log: Log) -> None:
+    """Seed 003's line again, as fast as joint limits of 1 rad/s and 2 rad/s² allow."""
+    robot = Spatial3R(5.0, 10.0, 8.0, 12.0)
+    line = Line([0.0, -12.0, 20.0], [10.0, 12.0, 20.0])
+    limits = tk.Limits(velocity=1.0, acceleration=2.0)
+    move = time_optimal(robot, line, limits, grid=1000)
+    smooth_limits = tk.Limits(velocity=1.0, acceleration=2.0, jerk=10.0)
+    smooth = time_optimal(robot, line, smooth_limits, grid=1000)
+    peak_v = move.trajectory.extrema(1).peak.max()
+    peak_a = move.trajectory.extrema(2).peak.max()
+    log(
+        f"seed 003 time-optimal: the same line in {move.duration:.4f} s (instead of 10 s) under "
+        f"|q'| <= 1 rad/s, |q''| <= 2 rad/s^2: peaks {peak_v:.6f} rad/s, {peak_a:.6f} rad/s^2, "
+        f"limits {'kept' if move.trajectory.check(limits).ok else 'BROKEN'} (exact check); "
+        f"tool within {move.path_error:.2g} cm of the line"
+    )
+    log(
+        f"  with a jerk limit of 10 rad/s^3 as well: {smooth.duration:.4f} s, limits "
+        f"{'kept' if smooth.trajectory.check(smooth_limits).ok else 'BROKEN'}"
+    )
+    stem = "seed003_time_optimal"
+    runs = ((move.trajectory, "", limits), (smooth.trajectory, "_jerk_limited", smooth_limits))
+    for trajectory, name, bounds in runs:
+        title = f"Seed 003, time-optimal{name.replace('_', ' ')}"
+        figure = tk.plot.profiles(
+            trajectory, bounds, orders=(0, 1, 2, 3), names=robot.names, title=title
+        )
+        tk.plot.save(figure, stage.path(out / f"{stem}{name}_joints.png"))
+        trajectory.sample(0.01).to_csv(stage.path(out / f"{stem}{name}_joints.csv"))
 
 
 def seed002_two_link_tracking(out: Path, stage: StagedFiles, log: Log) -> None:
@@ -363,6 +402,7 @@ EXAMPLES: tuple[Callable[[Path, StagedFiles, Log], None], ...] = (
     seed004_via_point_polynomials,
     seed000_two_joint_cubic,
     seed003_task_space_line,
+    seed003_time_optimal_line,
     seed002_two_link_tracking,
     seed001_six_joint_synchronization,
     seed000_jackal_twist,

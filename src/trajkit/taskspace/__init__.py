@@ -22,6 +22,7 @@ from trajkit.taskspace.motion import (
     timed,
 )
 from trajkit.taskspace.paths import Arc, Ellipse, FigureEight, Line, Path, Polyline
+from trajkit.taskspace.time_optimal import TimeOptimalMove, time_optimal
 
 __all__ = [
     "Arc",
@@ -34,8 +35,10 @@ __all__ = [
     "TaskSegment",
     "TaskState",
     "TaskTrajectory",
+    "TimeOptimalMove",
     "path_law",
     "through_poses",
+    "time_optimal",
     "timed",
     "to_joint_space",
 ]
