@@ -32,6 +32,7 @@ from trajkit.mobile.models import (
 )
 from trajkit.mobile.plans import constant_twist, rotate_translate_rotate
 from trajkit.mobile.simulate import SimulationLog, simulate
+from trajkit.mobile.time_optimal import time_optimal
 from trajkit.mobile.trajectory import Arc, MobileState, MobileTrajectory, Segment, Straight, Turn
 
 __all__ = [
@@ -64,5 +65,6 @@ __all__ = [
     "saturate",
     "simulate",
     "spline_output",
+    "time_optimal",
     "wrap_angle",
 ]
