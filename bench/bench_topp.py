@@ -21,7 +21,7 @@ import toppra.constraint as constraint
 
 import trajkit as tk
 from timing import median_seconds
-from trajkit.topp import topp
+from trajkit.time_optimal import topp
 
 VMAX, AMAX = 1.0, 2.0
 

@@ -31,7 +31,7 @@ from trajkit.profiles import (
     trapezoidal,
 )
 from trajkit.samples import Samples
-from trajkit.topp import topp
+from trajkit.time_optimal import topp
 from trajkit.trajectory import Extrema, State, Trajectory
 
 __version__ = "0.1.0"

@@ -8,7 +8,7 @@ whose path derivatives follow from the curve's:
 
 with ``σ' = |p'|`` (distance per unit of s) and ``θ' = (p' × p'') / |p'|²`` (turn per
 unit of s), and ``dv/dt = σ'' ṡ² + σ' s̈`` likewise: exactly the structure of joint
-limits, so :mod:`trajkit.topp`'s reachability analysis times the curve. The
+limits, so :mod:`trajkit.time_optimal`'s reachability analysis times the curve. The
 channels are not polynomials in ``s``; on each grid interval their rate is the
 cubic Hermite interpolant of ``c'`` and ``c''`` at its ends.
 
@@ -35,9 +35,9 @@ from trajkit.mobile.flatness import (
 from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
 from trajkit.mobile.models import Model, resolve_model
 from trajkit.mobile.trajectory import MobileTrajectory, channel_weights
-from trajkit.topp import grid_points
-from trajkit.topp.reachability import Channels, Stages
-from trajkit.topp.timing import as_polynomial, timed
+from trajkit.time_optimal import grid_points
+from trajkit.time_optimal.reachability import Channels, Stages
+from trajkit.time_optimal.timing import as_polynomial, timed
 from trajkit.trajectory import Trajectory
 
 __all__ = ["time_optimal"]

@@ -19,7 +19,7 @@ from trajkit.limits import Limits
 from trajkit.taskspace.joint_space import JointSpacePlan, to_joint_space
 from trajkit.taskspace.motion import TaskTrajectory, timed
 from trajkit.taskspace.paths import Path
-from trajkit.topp import topp
+from trajkit.time_optimal import topp
 from trajkit.trajectory import Trajectory
 
 __all__ = ["TimeOptimalMove", "time_optimal"]

@@ -1,22 +1,23 @@
 """Time-optimal path parameterization: the fastest timing of a fixed path.
 
 Given a geometric path ``q(s)`` and per-joint velocity and acceleration bounds,
-:func:`topp` finds the fastest ``s(t)`` by reachability analysis (Pham & Pham,
-2018) on a grid in ``s``, each stage solved in closed form and each pass a
-vectorized scan (:mod:`trajkit.topp.reachability`). The result is exact between
-grid points too (:mod:`trajkit.topp.timing`): ``q(s(t))`` is a Trajectory of
+:func:`topp` (also ``trajkit.topp``) finds the fastest ``s(t)`` by reachability
+analysis (Pham & Pham, 2018) on a grid in ``s``, each stage solved in closed form
+(:mod:`trajkit.time_optimal.reachability`). The result is exact between
+grid points too (:mod:`trajkit.time_optimal.timing`): ``q(s(t))`` is a Trajectory of
 polynomials whose limits :meth:`~trajkit.Trajectory.check` verifies exactly.
 
 Why the result keeps every limit everywhere, not only at the grid points: the
-stage constraints hold at both ends of each interval, and in between the timed
-polynomials' extrema are computed exactly. An interval whose peak passes a bound
-has that bound tightened locally (its acceleration bounds scaled by the ratio, the
-velocity caps at its ends lowered to the speed that would have kept it) and the
-problem is re-solved; this converges in a few rounds and costs far less duration
-than a global margin. Should it not, the whole motion is slowed uniformly by
+stage constraints bound the Bernstein coefficients of every joint's acceleration
+and squared velocity over each interval, whose hull contains the whole curve
+(:class:`~trajkit.time_optimal.reachability.Stages`). The timed polynomials'
+extrema are then computed exactly before returning. Should an interval still pass
+a bound, that bound is tightened locally (its acceleration bounds scaled by the
+ratio, the velocity caps at its ends lowered to the speed that would have kept it)
+and the problem re-solved; failing that, the whole motion is slowed uniformly by
 ``max(v_peak / v_max, sqrt(a_peak / a_max))`` (rest-to-rest motions only, as
 slowing would change non-zero boundary speeds). Jerk limits: see
-:mod:`trajkit.topp.jerk`.
+:mod:`trajkit.time_optimal.jerk`.
 """
 
 from __future__ import annotations
@@ -30,8 +31,8 @@ from trajkit import _poly
 from trajkit._validation import FloatArray, finite_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import Limits
-from trajkit.topp.reachability import Channels, Stages
-from trajkit.topp.timing import GeometricPath, as_polynomial, interval_peaks, pieces_of, timed
+from trajkit.time_optimal.reachability import Channels, Stages
+from trajkit.time_optimal.timing import GeometricPath, as_polynomial, interval_peaks, pieces_of, timed
 from trajkit.trajectory import Trajectory
 
 __all__ = ["GeometricPath", "topp"]
@@ -64,7 +65,7 @@ def topp(
     limits : Limits
         ``velocity`` and ``acceleration`` bounds per joint (rad/s, rad/s² or m/s,
         m/s²; asymmetric allowed, each lower bound < 0 < upper bound). A ``jerk``
-        bound switches to the jerk-limited timing of :func:`trajkit.topp.jerk.smoothed`.
+        bound switches to the jerk-limited timing of :func:`trajkit.time_optimal.jerk.smoothed`.
         Position limits are not the timing's business and are ignored.
     grid : int or array_like
         Number of grid intervals (uniform in ``s``; the path's breakpoints are
@@ -114,7 +115,7 @@ def topp(
     velocity = _sides(limits, "velocity", ndof)
     acceleration = _sides(limits, "acceleration", ndof)
     if limits.jerk is not None:
-        from trajkit.topp.jerk import smoothed
+        from trajkit.time_optimal.jerk import smoothed
 
         if max(speeds) > 0.0:
             raise InvalidInputError(

@@ -220,8 +220,12 @@ class Stages:
         if acceleration_scale is None:
             acceleration_scale = np.ones(n - 1)
         cap = self.caps(velocity_factor, acceleration_scale)
-        if x_start > cap[0] * (1 + 1e-9) or x_end > cap[-1] * (1 + 1e-9):
-            raise InfeasibleError("the boundary path speeds break the limits at the path's ends")
+        for name, x, allowed in (("start_speed", x_start, cap[0]), ("end_speed", x_end, cap[-1])):
+            if x > allowed * (1 + 1e-9):
+                raise InfeasibleError(
+                    f"{name} {np.sqrt(x):g} breaks the limits there: at most "
+                    f"{np.sqrt(allowed):.6g} (path parameter per second)"
+                )
         scale = acceleration_scale[:, None]
         # Backward, from the end: reach_i = clip(min_j shrink (reach_{i+1} - pull), 0, cap_i).
         a = self._shrink[::-1]

@@ -4,7 +4,7 @@ A phase-plane timing has piecewise-constant ``s̈``, so its joint accelerations 
 at every grid point: unbounded jerk. This module makes an approximate but
 guaranteed jerk-limited timing in three steps:
 
-1. the velocity- and acceleration-optimal ``s(t)`` (:func:`trajkit.topp.optimal_x`),
+1. the velocity- and acceleration-optimal ``s(t)`` (:func:`trajkit.time_optimal.optimal_x`),
    at rest wherever the path's tangent or curvature jumps (there the jerk could
    not be bounded at speed);
 2. between those rests, ``s`` is replaced by its moving average over a window
@@ -36,7 +36,7 @@ from trajkit import _poly
 from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
 from trajkit.limits import Limits
-from trajkit.topp.timing import compose, pieces_of
+from trajkit.time_optimal.timing import compose, pieces_of
 from trajkit.trajectory import Trajectory
 
 __all__ = ["moving_average", "smoothed"]
@@ -47,7 +47,7 @@ _WINDOWS = (0.5, 1.0, 2.0)
 
 def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float) -> Trajectory:
     """The jerk-limited timing of ``path`` on the grid ``s`` (see the module notes)."""
-    from trajkit.topp import _sides, jumps, optimal_x
+    from trajkit.time_optimal import _sides, jumps, optimal_x
 
     ndof = path.ndof
     velocity = _sides(limits, "velocity", ndof)

@@ -22,7 +22,7 @@ __all__ = ["GeometricPath", "as_polynomial", "compose", "interval_peaks", "piece
 
 
 class GeometricPath(Protocol):
-    """What :func:`~trajkit.topp.topp` needs of a path that is not a Trajectory.
+    """What :func:`~trajkit.time_optimal.topp` needs of a path that is not a Trajectory.
 
     ``breakpoints`` spans the path parameter's range (and marks where a derivative
     may jump); ``evaluate(s, order)`` gives the ``order``-th derivative in ``s``
