@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 import trajkit as tk
 from trajkit.errors import InfeasibleError, InvalidInputError
-from trajkit.topp import topp
+from trajkit.time_optimal import topp
 
 LIMITS = tk.Limits(velocity=1.0, acceleration=2.0)
 
@@ -117,7 +117,7 @@ def test_limits_must_bound_velocity_and_acceleration_around_zero():
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), grid=st.integers(5, 60))
 def test_the_closed_form_peaks_equal_the_timed_trajectorys_extrema(seed, grid):
-    from trajkit.topp import _grid, _peaks, _timed
+    from trajkit.time_optimal import _grid, _peaks, _timed
 
     rng = np.random.default_rng(seed)
     path = spline(seed, 3)

@@ -32,7 +32,13 @@ from trajkit._validation import FloatArray, finite_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import Limits
 from trajkit.time_optimal.reachability import Channels, Stages
-from trajkit.time_optimal.timing import GeometricPath, as_polynomial, interval_peaks, pieces_of, timed
+from trajkit.time_optimal.timing import (
+    GeometricPath,
+    as_polynomial,
+    interval_peaks,
+    pieces_of,
+    timed,
+)
 from trajkit.trajectory import Trajectory
 
 __all__ = ["GeometricPath", "topp"]
