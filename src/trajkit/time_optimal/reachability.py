@@ -37,8 +37,6 @@ __all__ = ["Channels", "Stages"]
 
 #: A channel whose path derivative is below this (relative) does not bound ``u``.
 _FLAT = 1e-12
-#: Re-runs of the recurrence with re-picked lines before every line is used.
-_ROUNDS = 4
 
 
 @dataclass(frozen=True)
@@ -119,8 +117,10 @@ class Stages:
         left = np.concatenate([ascending[0][:1], at_end], axis=0)
         self.velocity_cap = np.minimum(_rate_cap(first, vel_lo, vel_hi, scale),
                                        _rate_cap(left, vel_lo, vel_hi, scale))  # fmt: skip
-        near = _affine(first[-1:], second[-1:], acc_lo, acc_hi, scale)
-        end_cap = _maximum_velocity_curve(*near, first[-1:], second[-1:], acc_lo, acc_hi, scale)
+        # The maximum velocity curve of the rows at each point alone: an upper bound
+        # of each stage's, which Newton steps below bring down to it.
+        near = _affine(first, second, acc_lo, acc_hi, scale)
+        at_points = _maximum_velocity_curve(*near, first, second, acc_lo, acc_hi, scale)
         # Acceleration rows: Bernstein coefficients of c'' (on x_i) and c' + 2σ c'' (on u).
         on_u = np.einsum("cj,jnm->cnm", hull, (1.0 + 2.0 * powers) * ascending)
         on_x = np.einsum("cj,jnm->cnm", hull, rate_of)
@@ -132,9 +132,9 @@ class Stages:
                                               np.asarray(_FLAT * scale))  # fmt: skip
         # Each stage's own maximum velocity curve: the largest x_i for which some u
         # keeps every acceleration row of the interval, found by Newton steps from
-        # above. Only up to a few times the velocity cap matters; where that is
-        # infinite (every channel still), pairs of rows give the start.
-        start = 4.0 * self.velocity_cap[:-1]
+        # above. Only up to a few times the velocity cap matters; where even the
+        # points' curve is infinite (every channel still), pairs of rows give the start.
+        start = np.minimum(4.0 * self.velocity_cap[:-1], at_points[:-1])
         unbounded = np.flatnonzero(~np.isfinite(start))
         if unbounded.size:
             rows = (valid, rate, high, low, slope_u, curve_x)
@@ -143,7 +143,7 @@ class Stages:
             )
         stage_cap = _feasible_below(start, valid, rate, high, low)
         self._rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, scale)
-        self.acceleration_cap = np.concatenate([stage_cap, end_cap])
+        self.acceleration_cap = np.append(stage_cap, at_points[-1])
         self._exact = np.zeros(delta.size + 1, dtype=bool)
         self.velocity_cap = self._rates_inside(ascending, vel_lo, vel_hi)
         twice = 2.0 * delta[:, None]
@@ -177,14 +177,16 @@ class Stages:
         square = np.zeros((2 * degree + 1, *ascending.shape[1:]))
         for i in range(degree + 1):
             square[i : i + degree + 1] += ascending[i] * ascending
-        g = np.einsum("cj,jnm->cnm", _bernstein(2 * degree), square)  # c'² in Bernstein form
+        shape = square.shape
+        g = (_bernstein(2 * degree) @ square.reshape(shape[0], -1)).reshape(shape)  # c'² hull
+        # Times the linear x(τ) from w_i to w_{i+1} (degree elevation), coefficient c of
+        # 0..2K+1: ((2K+1-c) g_c w_i + c g_{c-1} w_{i+1}) / (2K+1).
         top = 2 * degree + 1
-        c = np.arange(top + 1)[:, None, None]
-        at_start = np.zeros((top + 1, *g.shape[1:]))
-        at_end = np.zeros_like(at_start)
-        at_start[:-1] = (top - c[:-1]) / top * g  # degree elevation by the linear x(τ)
-        at_end[1:] = c[1:] / top * g
-        rate2 = (at_start * w[:-1, None] + at_end * w[1:, None]).max(axis=0)  # (N, m)
+        share = (np.arange(1, top) / top)[:, None, None]
+        ends = np.maximum(g[0] * w[:-1, None], g[-1] * w[1:, None])
+        inner = ((1.0 - share) * g[1:] * w[None, :-1, None]
+                 + share * g[:-1] * w[None, 1:, None]).max(axis=0)  # fmt: skip
+        rate2 = np.maximum(ends, inner)  # (N, m)
         hull = np.einsum("cj,jnm->cnm", _bernstein(degree), ascending)
         # The bound of the side the channel moves to; both sides' tighter one if it turns.
         either = np.minimum(vel_hi, -vel_lo)
@@ -331,23 +333,26 @@ def _feasible_below(
     largest root (a concave function lies below its pieces' lines), so a few such
     Newton steps from the right land on it exactly.
     """
-    rows = np.arange(cap.size)
     upper = np.where(valid, high, np.inf)
     lower = np.where(valid, low, -np.inf)
     slopes = np.where(valid, rate, 0.0)
     x = cap.copy()
+    todo = np.flatnonzero(np.isfinite(x))
     for _ in range(8):
+        if todo.size == 0:
+            break
+        rows = np.arange(todo.size)
+        here, grow = x[todo][:, None], slopes[todo]
         with np.errstate(invalid="ignore"):
-            u_hi, u_lo = upper + slopes * x[:, None], lower + slopes * x[:, None]
+            u_hi, u_lo = upper[todo] + grow * here, lower[todo] + grow * here
         k, j = np.argmin(u_hi, axis=1), np.argmax(u_lo, axis=1)
         room = u_hi[rows, k] - u_lo[rows, j]
-        short = np.isfinite(x) & (room < -1e-12 * np.maximum(np.abs(u_hi[rows, k]), 1e-300))
-        if not short.any():
-            return x
-        fall = slopes[rows, j] - slopes[rows, k]  # how fast the room shrinks with x
+        short = room < -1e-12 * np.maximum(np.abs(u_hi[rows, k]), 1e-300)
+        fall = grow[rows, j] - grow[rows, k]  # how fast the room shrinks with x
         with np.errstate(divide="ignore", invalid="ignore"):
-            root = np.where(fall > 0, x + room / np.where(fall > 0, fall, 1.0), 0.0)
-        x = np.where(short, np.maximum(root, 0.0), x)
+            root = np.where(fall > 0, x[todo] + room / np.where(fall > 0, fall, 1.0), 0.0)
+        x[todo[short]] = np.maximum(root[short], 0.0)
+        todo = todo[short]
     return np.maximum(x, 0.0)
 
 
@@ -371,87 +376,131 @@ def recurrence(a: FloatArray, b: FloatArray, high: FloatArray, y0: float) -> Flo
     Notes
     -----
     Only the lower envelope of each stage's lines over the inputs it can receive
-    matters, and it is almost always made of the lines lowest at the ends and the
-    middle of that range (found for all stages at once): the recurrence runs over
-    those three per stage. Its result is then checked against every line at once;
-    a stage where another line was lower gets all its lines, and the recurrence is
-    re-run from there, so the answer is exact whatever the probes missed.
+    matters. It is found for all stages at once (:func:`_envelope`), and the
+    recurrence then evaluates one line per stage: the envelope's piece where the
+    input falls. The result is checked against every line at once; a stage where
+    rounding picked a neighbouring piece goes through all its lines, from there on.
     """
     n = high.size
     reach = np.concatenate([[y0], high[:-1]])  # the largest input of each stage
-    with np.errstate(invalid="ignore", over="ignore"):
-        ends = [np.argmin(b, axis=1), np.argmin(a * reach[:, None] + b, axis=1)]
-        middle = np.argmin(a * (0.5 * reach)[:, None] + b, axis=1)
+    pieces = _envelope(a, b, reach)
     caps = high.tolist()
-    every: dict[int, tuple[list[float], list[float]]] = {}
     y = np.empty(n)
     start, entering = 0, y0
-    latest = middle
-    for _ in range(_ROUNDS):
-        y[start:] = _run(_columns(a, b, high, [*ends, middle, latest]), caps, every, start,
-                         entering)  # fmt: skip
+    for _ in range(3):
+        y[start:] = _run(pieces, caps, start, entering)
         before = np.concatenate([[y0], y[:-1]])
         with np.errstate(invalid="ignore", over="ignore"):
-            terms = a * before[:, None] + b
-        exact = np.clip(terms.min(axis=1), 0.0, high)
+            exact = np.clip((a * before[:, None] + b).min(axis=1), 0.0, high)
         missed = np.flatnonzero(exact < y - 1e-12 * np.abs(y))
         if missed.size == 0:
             return y
-        # The values found are close: the line lowest at each stage's input now is
-        # most likely the envelope's piece there. The earlier picks stay.
-        middle, latest = latest, np.argmin(terms, axis=1)
+        _take_all(pieces, a, b, missed)
         start = int(missed[0])
         entering = float(before[start])
-    every = {k: (a[k].tolist(), b[k].tolist()) for k in range(start, n)}
-    y[start:] = _run(_columns(a, b, high, [*ends, middle, latest]), caps, every, start, entering)
+    _take_all(pieces, a, b, np.arange(start, n))
+    y[start:] = _run(pieces, caps, start, entering)
     return y
 
 
-def _columns(a: FloatArray, b: FloatArray, high: FloatArray, picks: list) -> list[list[float]]:
-    """The picked lines of every stage as plain lists.
+def _take_all(pieces: list[list], a: FloatArray, b: FloatArray, stages: np.ndarray) -> None:
+    """Make ``stages`` go through all of their lines in :func:`_run`."""
+    for k, slopes, offsets in zip(stages.tolist(), a[stages].tolist(), b[stages].tolist(),
+                                  strict=True):  # fmt: skip
+        pieces[2][k] = pieces[5][k] = -1.0  # inputs are >= 0: never within a piece
+        pieces[6][k] = None
+        pieces[7][k] = (slopes, offsets)
 
-    A stage none of whose picked lines binds (``b = inf``) becomes the constant clip.
+
+def _envelope(a: FloatArray, b: FloatArray, reach: FloatArray) -> list[list]:
+    """The lower envelope of every stage's lines over ``[0, reach_k]``, for :func:`_run`.
+
+    The lines lowest at 0 and at ``reach`` make the envelope unless another dips below
+    where they cross (a line below a concave envelope somewhere is below it at one
+    of its breakpoints or ends); then that line joins them, and the two new
+    crossings are checked the same way. Stages with a fourth piece carry all their
+    lines. Returns the slope, offset and end of each of three pieces, as lists.
     """
-    rows = np.arange(high.size)
-    lines = [(a[rows, j], b[rows, j]) for j in picks]
-    dead = np.logical_and.reduce([~np.isfinite(offset) for _, offset in lines])
-    columns = []
-    for slope, offset in lines:
-        columns += [np.where(dead, 0.0, slope).tolist(), np.where(dead, high, offset).tolist()]
+    n = a.shape[0]
+    rows = np.arange(n)
+    with np.errstate(invalid="ignore", over="ignore"):
+        at_top = a * reach[:, None] + b
+        first, last = np.argmin(b, axis=1), np.argmin(at_top, axis=1)
+        a1, b1, a3, b3 = a[rows, first], b[rows, first], a[rows, last], b[rows, last]
+        meet = _crossing(a1, b1, a3, b3, reach)
+        middle, dips = _dip(a, b, meet, np.minimum(a1 * meet + b1, a3 * meet + b3))
+        a2, b2 = a[rows, middle], b[rows, middle]
+        # Without a dip: two pieces, the first up to their crossing, the second (kept
+        # in the third slot) after it.
+        end1 = np.where(first == last, np.inf, meet)
+        end2 = np.full(n, -1.0)
+        crowded = np.zeros(0, dtype=int)
+        if dips.any():
+            k = np.flatnonzero(dips)
+            left = _crossing(a1[k], b1[k], a2[k], b2[k], meet[k])
+            right = meet[k] + _crossing(a2[k], b2[k] + a2[k] * meet[k], a3[k],
+                                        b3[k] + a3[k] * meet[k], reach[k] - meet[k])  # fmt: skip
+            end1[k], end2[k] = left, right
+            _, low_left = _dip(a[k], b[k], left, a1[k] * left + b1[k])
+            _, low_right = _dip(a[k], b[k], right, a3[k] * right + b3[k])
+            crowded = k[low_left | low_right]
+    dead = ~np.isfinite(b1) & ~np.isfinite(b3)  # no line ever binds: the stage is its clip
+    b3 = np.where(dead, np.inf, b3)
+    columns: list[list] = [a1.tolist(), b1.tolist(), end1.tolist(), a2.tolist(), b2.tolist(),
+                           end2.tolist(), a3.tolist(), b3.tolist()]  # fmt: skip
+    _take_all(columns, a, b, crowded)
     return columns
 
 
+def _crossing(a1: FloatArray, b1: FloatArray, a2: FloatArray, b2: FloatArray,
+              top: FloatArray) -> FloatArray:  # fmt: skip
+    """Where line 1 (lower at 0) meets line 2, clipped to ``[0, top]``."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        where = (b2 - b1) / (a1 - a2)
+    return np.clip(np.where(np.isfinite(where), where, top), 0.0, top)
+
+
+def _dip(a: FloatArray, b: FloatArray, y: FloatArray, envelope: FloatArray
+         ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The line lowest at ``y`` on each stage, and whether it is below ``envelope`` there."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        values = a * y[:, None] + b
+    lowest = np.argmin(values, axis=1)
+    value = values[np.arange(y.size), lowest]
+    with np.errstate(invalid="ignore"):
+        below = value < envelope - 1e-12 * np.abs(envelope)
+    return lowest, below
+
+
 def _run(
-    columns: list[list[float]],
+    pieces: list[list],
     caps: list[float],
-    every: dict[int, tuple[list[float], list[float]]],
     start: int,
     y: float,
 ) -> list[float]:
-    """The recurrence from stage ``start`` over four picked lines per stage.
+    """The recurrence from stage ``start``, one envelope piece per stage.
 
-    Stages in ``every`` also go through all of their lines.
+    A stage whose third slope is ``None`` carries all of its lines, as pairs, in
+    place of the third offset, and goes through all of them.
     """
-    p1, q1, p2, q2, p3, q3, p4, q4 = (column[start:] for column in columns)
-    out = []
-    for k, (a1, b1, a2, b2, a3, b3, a4, b4, cap) in enumerate(
-        zip(p1, q1, p2, q2, p3, q3, p4, q4, caps[start:], strict=True), start
+    a1, b1, e1, a2, b2, e2, a3, b3 = (column[start:] for column in pieces)
+    out: list[float] = []
+    append = out.append
+    for p1, q1, end1, p2, q2, end2, p3, q3, cap in zip(
+        a1, b1, e1, a2, b2, e2, a3, b3, caps[start:], strict=True
     ):
-        best = a1 * y + b1
-        value = a2 * y + b2
-        if value < best:
-            best = value
-        value = a3 * y + b3
-        if value < best:
-            best = value
-        value = a4 * y + b4
-        if value < best:
-            best = value
-        if every and k in every:
-            for p, q in zip(*every[k], strict=True):
+        if y <= end1:
+            best = p1 * y + q1
+        elif y <= end2:
+            best = p2 * y + q2
+        elif p3 is not None:
+            best = p3 * y + q3
+        else:
+            best = cap
+            for p, q in zip(*q3, strict=True):
                 value = p * y + q
                 if value < best:
                     best = value
         y = cap if best > cap else (best if best > 0.0 else 0.0)
-        out.append(y)
+        append(y)
     return out
