@@ -22,6 +22,7 @@ from trajkit.cli_sim import (
     simulate_arm,
     write_frames,
 )
+from trajkit.cli_sweep import add_sweep_command, run_sweep
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import staged_files
 from trajkit.limits import Limits
@@ -136,6 +137,8 @@ def _build_parser() -> _Parser:
     scenario.add_argument("--report", action="store_true",
                           help="also write a self-contained index.html of the run")  # fmt: skip
 
+    add_sweep_command(commands)
+
     demo = commands.add_parser("demo", help="run the worked examples and write their outputs")
     demo.add_argument(
         "--out",
@@ -158,6 +161,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             "plan": _plan,
             "mobile": run_mobile,
             "run": _run_scenario,
+            "sweep": run_sweep,
             "demo": _demo,
         }
         handler = handlers[args.command]

@@ -67,6 +67,13 @@ class Table:
             return self.data[key], self.where(key), 1.0
         return _MISSING, self.where(key), 1.0
 
+    def value(self, key: str) -> Any:
+        """The raw value of ``key`` (marked as read); the caller checks it."""
+        value, where, _ = self._take(key, angles=False)
+        if value is _MISSING:
+            raise ScenarioError(f"{where}: required")
+        return value
+
     def number(self, key: str, default: Any = _MISSING, *, angles: bool = False,
                positive: bool = False) -> Any:  # fmt: skip
         """A finite number (radians for ``key_deg``), or ``default`` when absent."""

@@ -1,0 +1,430 @@
+"""What each planner of a sweep takes, and how a chunk of its problems is planned.
+
+Every planner turns one chunk's inputs into the same kind of rows: ``duration``
+(s), ``feasible`` (planned and every limit kept), ``worst_violation`` (the largest
+``peak / bound - 1`` over the checked limits, 0 when all hold), the peaks per
+joint (or per base quantity) and ``error`` (the message, empty when planned). A
+problem that cannot be planned is a row with its error, never an exception.
+
+The trapezoid and S-curve planners plan a whole chunk in one batch call
+(:mod:`trajkit.batch`) and read the peaks off the phases exactly; if the batch
+refuses, the chunk is halved until the refusing problems stand alone. The
+others plan problem by problem: they are not batch planners.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from trajkit._validation import FloatArray
+from trajkit.errors import TrajkitError
+from trajkit.scenario.reader import ScenarioError, Table
+
+__all__ = ["PLANNERS", "ChunkResult", "Planner"]
+
+
+@dataclass
+class ChunkResult:
+    """A chunk's rows, as columns, and optionally its sampled trajectories.
+
+    ``samples`` is ``(values, lengths)``: ``values`` of shape ``(n, T, width)``
+    sampled every ``period`` from t = 0 (NaN past each problem's end) and the
+    number of valid samples of each.
+    """
+
+    columns: dict[str, np.ndarray]
+    samples: tuple[FloatArray, np.ndarray] | None = None
+
+
+Run = Callable[[dict[str, Any], dict[str, Any], dict[str, FloatArray], float | None], ChunkResult]
+
+
+@dataclass(frozen=True)
+class Planner:
+    """One planner's parameters (name → default; None = required), options and runner."""
+
+    parameters: dict[str, Any]
+    options: dict[str, Any]
+    robot: Callable[[Table], dict[str, Any]]
+    widths: Callable[[dict[str, Any], dict[str, Any]], dict[str, int]]
+    run: Run
+    quantities: tuple[str, ...]
+
+
+# --------------------------------------------------------------------------- rows
+def _empty(n: int, width: int, quantities: tuple[str, ...]) -> dict[str, np.ndarray]:
+    columns: dict[str, np.ndarray] = {
+        "duration": np.full(n, np.nan),
+        "feasible": np.zeros(n, dtype=bool),
+        "worst_violation": np.full(n, np.nan),
+    }
+    for quantity in quantities:
+        for j in range(width):
+            columns[f"peak_{quantity}_{j + 1}"] = np.full(n, np.nan)
+    columns["error"] = np.full(n, "", dtype=object)
+    return columns
+
+
+def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArray,
+          peaks: dict[str, FloatArray], bounds: dict[str, FloatArray]) -> None:  # fmt: skip
+    """Rows ``where``: durations, peaks ``(k, width)`` and their worst excess over ``bounds``."""
+    columns["duration"][where] = duration
+    worst = np.zeros(where.size)
+    for quantity, peak in peaks.items():
+        for j in range(peak.shape[1]):
+            columns[f"peak_{quantity}_{j + 1}"][where] = peak[:, j]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(bounds[quantity] > 0, peak / bounds[quantity], np.inf)
+        worst = np.maximum(worst, (ratio - 1.0).max(axis=1))
+    columns["worst_violation"][where] = np.maximum(worst, 0.0)
+    columns["feasible"][where] = worst <= 1e-9
+
+
+def _failed(columns: dict[str, np.ndarray], index: int, error: Exception) -> None:
+    columns["error"][index] = f"{type(error).__name__}: {error}".replace("\n", " ")
+
+
+# ---------------------------------------------------------------- batch planners
+def _joints_robot(table: Table) -> dict[str, Any]:
+    joints = table.number("joints", 6)
+    if joints != int(joints) or not 1 <= joints <= 64:
+        raise ScenarioError(f"{table.where('joints')}: expected a whole number from 1 to 64")
+    return {"joints": int(joints)}
+
+
+def _joint_widths(names: tuple[str, ...]) -> Callable[[dict, dict], dict[str, int]]:
+    return lambda robot, options: dict.fromkeys(names, robot["joints"])
+
+
+def _phase_peaks(plan: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Exact peaks of |velocity|, |acceleration|, |jerk| per problem and joint."""
+    from trajkit.profiles._phases import phase_states
+
+    _, _, v = phase_states(plan)
+    d, a, j = plan.durations, plan.accelerations, plan.jerks
+    used = d > 0.0
+    v_end = v + a * d + j * d**2 / 2.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vertex = np.where(j != 0.0, -a / j, -1.0)
+    inside = used & (vertex > 0.0) & (vertex < d)
+    v_mid = np.where(inside, v + a * vertex + j * vertex**2 / 2.0, 0.0)
+    speed = np.max(np.where(used, np.maximum(np.abs(v), np.abs(v_end)), 0.0), axis=-1)
+    speed = np.maximum(speed, np.max(np.abs(v_mid), axis=-1))
+    accel = np.max(np.where(used, np.maximum(np.abs(a), np.abs(a + j * d)), 0.0), axis=-1)
+    jerk = np.max(np.where(used, np.abs(j), 0.0), axis=-1)
+    return speed, accel, jerk
+
+
+def _batched(
+    plan_batch: Callable[[np.ndarray], Any],
+    n: int,
+    columns: dict[str, np.ndarray],
+    bounds_of: Callable[[np.ndarray], dict[str, FloatArray]],
+    quantities: tuple[str, ...],
+) -> list[tuple[np.ndarray, Any]]:
+    """Plan rows ``0..n-1`` in batches, halving a refused batch down to single problems."""
+    done: list[tuple[np.ndarray, Any]] = []
+    pending = [np.arange(n)]
+    while pending:
+        rows = pending.pop()
+        try:
+            plans = plan_batch(rows)
+        except TrajkitError as exc:
+            if rows.size == 1:
+                _failed(columns, int(rows[0]), exc)
+                continue
+            half = rows.size // 2
+            pending += [rows[half:], rows[:half]]
+            continue
+        peaks = dict(zip(("velocity", "acceleration", "jerk"), _phase_peaks(plans.plan),
+                         strict=True))  # fmt: skip
+        _fill(columns, rows, plans.durations, {q: peaks[q] for q in quantities},
+              bounds_of(rows))  # fmt: skip
+        done.append((rows, plans))
+    return done
+
+
+def _batch_samples(done: list[tuple[np.ndarray, Any]], n: int, width: int, period: float,
+                   durations: FloatArray) -> tuple[FloatArray, np.ndarray]:  # fmt: skip
+    finite = durations[np.isfinite(durations)]
+    count = int(np.floor((finite.max() if finite.size else 0.0) / period + 1e-9)) + 1
+    times = np.arange(count) * period
+    values = np.full((n, count, width), np.nan)
+    lengths = np.zeros(n, dtype=np.int64)
+    for rows, plans in done:
+        for start in range(0, rows.size, 256):  # bounded memory per evaluation
+            part = rows[start : start + 256]
+            sampled = plans.evaluate(times)[start : start + 256]
+            own = np.floor(durations[part] / period + 1e-9).astype(np.int64) + 1
+            mask = np.arange(count)[None, :] < own[:, None]
+            values[part] = np.where(mask[:, :, None], sampled, np.nan)
+            lengths[part] = own
+    return values, lengths
+
+
+def _run_trapezoid(robot: dict, options: dict, values: dict, period: float | None
+                   ) -> ChunkResult:  # fmt: skip
+    from trajkit import batch
+
+    n, width = values["q0"].shape
+    quantities = ("velocity", "acceleration")
+    columns = _empty(n, width, quantities)
+
+    def plan(rows: np.ndarray) -> Any:
+        return batch.trapezoidal(values["q0"][rows], values["qf"][rows], values["vmax"][rows],
+                                 values["amax"][rows], v0=values["v0"][rows],
+                                 vf=values["vf"][rows], sync=options["sync"])  # fmt: skip
+
+    def bounds(rows: np.ndarray) -> dict[str, FloatArray]:
+        return {"velocity": values["vmax"][rows], "acceleration": values["amax"][rows]}
+
+    done = _batched(plan, n, columns, bounds, quantities)
+    samples = None
+    if period is not None:
+        samples = _batch_samples(done, n, width, period, columns["duration"])
+    return ChunkResult(columns, samples)
+
+
+def _run_scurve(robot: dict, options: dict, values: dict, period: float | None) -> ChunkResult:
+    from trajkit import batch
+
+    n, width = values["q0"].shape
+    quantities = ("velocity", "acceleration", "jerk")
+    columns = _empty(n, width, quantities)
+
+    def plan(rows: np.ndarray) -> Any:
+        return batch.scurve(values["q0"][rows], values["qf"][rows], values["vmax"][rows],
+                            values["amax"][rows], values["jmax"][rows],
+                            sync=options["sync"])  # fmt: skip
+
+    def bounds(rows: np.ndarray) -> dict[str, FloatArray]:
+        return {"velocity": values["vmax"][rows], "acceleration": values["amax"][rows],
+                "jerk": values["jmax"][rows]}  # fmt: skip
+
+    done = _batched(plan, n, columns, bounds, quantities)
+    samples = None
+    if period is not None:
+        samples = _batch_samples(done, n, width, period, columns["duration"])
+    return ChunkResult(columns, samples)
+
+
+# ------------------------------------------------------- problem-by-problem planners
+def _one_by_one(
+    n: int,
+    width: int,
+    quantities: tuple[str, ...],
+    plan_one: Callable[[int], tuple[Any, dict[str, FloatArray], dict[str, FloatArray]]],
+    period: float | None,
+    sample: Callable[[Any, FloatArray], FloatArray],
+) -> ChunkResult:
+    """Plan each problem: ``plan_one(i)`` gives (plan, peaks, bounds), each (width,)."""
+    columns = _empty(n, width, quantities)
+    plans: dict[int, Any] = {}
+    for i in range(n):
+        try:
+            plan, peaks, bounds = plan_one(i)
+        except TrajkitError as exc:
+            _failed(columns, i, exc)
+            continue
+        where = np.array([i])
+        _fill(columns, where, np.array([plan.duration]),
+              {q: peaks[q][None, :] for q in quantities},
+              {q: bounds[q][None, :] for q in quantities})  # fmt: skip
+        plans[i] = plan
+    if period is None:
+        return ChunkResult(columns)
+    durations = columns["duration"]
+    finite = durations[np.isfinite(durations)]
+    count = int(np.floor((finite.max() if finite.size else 0.0) / period + 1e-9)) + 1
+    values = np.full((n, count, width), np.nan)
+    lengths = np.zeros(n, dtype=np.int64)
+    for i, plan in plans.items():
+        own = int(np.floor(plan.duration / period + 1e-9)) + 1
+        values[i, :own] = sample(plan, np.arange(own) * period)
+        lengths[i] = own
+    return ChunkResult(columns, (values, lengths))
+
+
+def _report_peaks(report: Any, quantities: tuple[str, ...]) -> tuple[dict, dict]:
+    peaks, bounds = {}, {}
+    for quantity in quantities:
+        low, high = report.peaks[quantity]
+        lower, upper = report.bounds[quantity]
+        peaks[quantity] = np.maximum(np.abs(low), np.abs(high))
+        # The side each peak is on decides its bound; the tighter side is reported.
+        bounds[quantity] = np.where(np.abs(high) >= np.abs(low), upper, -lower)
+    return peaks, bounds
+
+
+def _run_polynomial(robot: dict, options: dict, values: dict, period: float | None
+                    ) -> ChunkResult:  # fmt: skip
+    import trajkit as tk
+
+    n, width = values["q0"].shape
+    law = {"cubic": tk.cubic, "quintic": tk.quintic, "septic": tk.septic}[options["profile"]]
+    quantities = ("velocity", "acceleration")
+
+    def plan_one(i: int) -> tuple[Any, dict, dict]:
+        trajectory = law(values["q0"][i], values["qf"][i], float(values["duration"][i, 0]))
+        limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
+        return (trajectory, *_report_peaks(trajectory.check(limits), quantities))
+
+    return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
+
+
+def _run_topp(robot: dict, options: dict, values: dict, period: float | None) -> ChunkResult:
+    import trajkit as tk
+
+    n, width = values["vmax"].shape
+    points = options["points"]
+    knots = np.linspace(0.0, 1.0, points)
+    quantities = ("velocity", "acceleration")
+
+    def plan_one(i: int) -> tuple[Any, dict, dict]:
+        way = values["waypoints"][i].reshape(points, width)
+        path = tk.cubic_spline(knots, way, bc="natural")
+        limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
+        timed = tk.topp(path, limits, grid=options["grid"])
+        return (timed, *_report_peaks(timed.check(limits), quantities))
+
+    return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
+
+
+def _arm_robot(table: Table) -> dict[str, Any]:
+    from trajkit.kinematics import BUILTIN
+
+    name = table.string("name", "ur5", choices=sorted(BUILTIN))
+    arm = BUILTIN[name]()
+    return {"name": name, "joints": arm.ndof, "arm": arm}
+
+
+def _run_task_space(robot: dict, options: dict, values: dict, period: float | None
+                    ) -> ChunkResult:  # fmt: skip
+    import trajkit as tk
+    from trajkit.taskspace import Line, time_optimal
+
+    arm = robot["arm"]
+    n = values["p0"].shape[0]
+    width = arm.ndof
+    quantities = ("velocity", "acceleration")
+
+    def plan_one(i: int) -> tuple[Any, dict, dict]:
+        limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
+        move = time_optimal(arm, Line(values["p0"][i], values["pf"][i]), limits,
+                            samples=options["samples"], grid=options["grid"])  # fmt: skip
+        return (move.trajectory, *_report_peaks(move.trajectory.check(limits), quantities))
+
+    return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
+
+
+def _base_robot(table: Table) -> dict[str, Any]:
+    from trajkit.mobile.models import BASES
+
+    name = table.string("name", "jackal", choices=sorted(BASES))
+    return {"name": name, "model": BASES[name]()}
+
+
+def _run_mobile(robot: dict, options: dict, values: dict, period: float | None) -> ChunkResult:
+    from trajkit import mobile
+
+    model = robot["model"]
+    n = values["goal"].shape[0]
+    quantities = ("velocity", "acceleration")
+
+    def plan_one(i: int) -> tuple[Any, dict, dict]:
+        limits = mobile.MobileLimits(
+            velocity=float(values["vmax"][i, 0]), angular_velocity=float(values["wmax"][i, 0]),
+            acceleration=float(values["amax"][i, 0]),
+            angular_acceleration=float(values["alpha_max"][i, 0]),
+        )  # fmt: skip
+        plan = mobile.rotate_translate_rotate(
+            values["goal"][i], values["start"][i], model=model, limits=limits,
+            profile=options["profile"],
+        )  # fmt: skip
+        report = plan.check(limits)
+        peaks, bounds = {}, {}
+        pairs_of = {"velocity": ("velocity", "angular velocity"),
+                    "acceleration": ("acceleration", "angular acceleration")}  # fmt: skip
+        for quantity, names in pairs_of.items():
+            pairs = [_side_peak(report, name) for name in names]
+            peaks[quantity] = np.array([p for p, _ in pairs])
+            bounds[quantity] = np.array([b for _, b in pairs])
+        return plan, peaks, bounds
+
+    def sample(plan: Any, t: FloatArray) -> FloatArray:  # the base's position (x, y)
+        state = plan.evaluate(t)
+        return np.stack([state.x, state.y], axis=1)
+
+    return _one_by_one(n, 2, quantities, plan_one, period, sample)
+
+
+def _side_peak(report: Any, quantity: str) -> tuple[float, float]:
+    low, high = report.peaks[quantity]
+    lower, upper = report.bounds[quantity]
+    low, high, lower, upper = (float(np.ravel(v)[0]) for v in (low, high, lower, upper))
+    return (abs(high), upper) if abs(high) >= abs(low) else (abs(low), -lower)
+
+
+def _mobile_widths(robot: dict, options: dict) -> dict[str, int]:
+    return {"goal": 3, "start": 3, "vmax": 1, "wmax": 1, "amax": 1, "alpha_max": 1}
+
+
+def _model_limit(attribute: str) -> Callable[[dict], float]:
+    def default(robot: dict) -> float:
+        value = robot["model"].limits.magnitude(attribute)
+        if value is None:
+            raise ScenarioError(f"fixed.{attribute}: required ({robot['name']} has no default)")
+        return value
+
+    return default
+
+
+_SYNC = ("time", ("time", "phase", "none"))
+
+#: The planners a sweep can name.
+PLANNERS: dict[str, Planner] = {
+    "trapezoid": Planner(
+        {"q0": None, "qf": None, "vmax": None, "amax": None, "v0": 0.0, "vf": 0.0},
+        {"sync": _SYNC}, _joints_robot,
+        _joint_widths(("q0", "qf", "vmax", "amax", "v0", "vf")), _run_trapezoid,
+        ("velocity", "acceleration"),
+    ),
+    "scurve": Planner(
+        {"q0": None, "qf": None, "vmax": None, "amax": None, "jmax": None},
+        {"sync": _SYNC}, _joints_robot,
+        _joint_widths(("q0", "qf", "vmax", "amax", "jmax")), _run_scurve,
+        ("velocity", "acceleration", "jerk"),
+    ),
+    "polynomial": Planner(
+        {"q0": None, "qf": None, "duration": None, "vmax": None, "amax": None},
+        {"profile": ("quintic", ("cubic", "quintic", "septic"))}, _joints_robot,
+        lambda robot, options: {"q0": robot["joints"], "qf": robot["joints"], "duration": 1,
+                                "vmax": robot["joints"], "amax": robot["joints"]},
+        _run_polynomial, ("velocity", "acceleration"),
+    ),
+    "topp": Planner(
+        {"waypoints": None, "vmax": None, "amax": None},
+        {"points": 5, "grid": 200}, _joints_robot,
+        lambda robot, options: {"waypoints": options["points"] * robot["joints"],
+                                "vmax": robot["joints"], "amax": robot["joints"]},
+        _run_topp, ("velocity", "acceleration"),
+    ),
+    "task_space": Planner(
+        {"p0": None, "pf": None, "vmax": None, "amax": None},
+        {"samples": 100, "grid": 200}, _arm_robot,
+        lambda robot, options: {"p0": 3, "pf": 3, "vmax": robot["joints"],
+                                "amax": robot["joints"]},
+        _run_task_space, ("velocity", "acceleration"),
+    ),
+    "mobile": Planner(
+        {"goal": None, "start": 0.0, "vmax": _model_limit("velocity"),
+         "wmax": _model_limit("angular_velocity"), "amax": _model_limit("acceleration"),
+         "alpha_max": _model_limit("angular_acceleration")},
+        {"profile": ("trapezoid", ("trapezoid",))}, _base_robot, _mobile_widths,
+        _run_mobile, ("velocity", "acceleration"),
+    ),
+}  # fmt: skip
