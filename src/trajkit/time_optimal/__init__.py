@@ -114,6 +114,10 @@ def topp(
     points = grid_points(np.asarray(path.breakpoints, dtype=float), grid)
     polynomial, stray = as_polynomial(path, points)
     ndof = polynomial.ndof
+    if not np.any(polynomial.evaluate(points, 1)) and not np.any(
+        polynomial.extrema(1).peak
+    ):  # every joint constant: no timing to find
+        raise InvalidInputError("the path never moves (every joint is constant): nothing to time")
     speeds = (finite_scalar("start_speed", start_speed, unit="1/s"),
               finite_scalar("end_speed", end_speed, unit="1/s"))  # fmt: skip
     if min(speeds) < 0.0:
@@ -215,7 +219,11 @@ def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
     start, end = float(breakpoints[0]), float(breakpoints[-1])
     if end <= start:
         raise InvalidInputError("the path has no length to time")
-    if isinstance(grid, (int, np.integer)) and not isinstance(grid, bool):
+    if isinstance(grid, (bool, str, float)):
+        raise InvalidInputError(
+            f"grid must be a whole number of intervals or an array of grid points, got {grid!r}"
+        )
+    if isinstance(grid, (int, np.integer)):
         if grid < 2:
             raise InvalidInputError(f"grid must be at least 2 intervals, got {grid}")
         points = np.linspace(start, end, int(grid) + 1)

@@ -244,6 +244,11 @@ class Stages:
         x = np.empty(n)
         x[0] = min(x_start, reach[0])
         x[1:] = recurrence(self._grow, self._push * scale, reach[1:], x[0])
+        if x[-1] < x_end * (1 - 1e-9):
+            raise InfeasibleError(
+                f"end_speed {np.sqrt(x_end):g} is too fast to reach within the limits: at most "
+                f"{np.sqrt(x[-1]):.6g} (path parameter per second)"
+            )
         x[-1] = min(x_end, reach[-1])
         u = (x[1:] - x[:-1]) / (2.0 * self.delta)
         valid, rate, high, low, slope_u, curve_x, low_b, high_b, size = self._rows

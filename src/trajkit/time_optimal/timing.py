@@ -58,13 +58,28 @@ def as_polynomial(path: object, s: FloatArray) -> tuple[Trajectory, float]:
         derivatives = np.stack([np.asarray(path.evaluate(s, k), dtype=float) for k in range(3)])
     except (TypeError, ValueError) as exc:
         raise InvalidInputError(f"path.evaluate(s, order) failed on the grid: {exc}") from None
-    if derivatives.ndim != 3 or derivatives.shape[1] != s.size:
+    if derivatives.ndim != 3 or derivatives.shape[1] != s.size or derivatives.shape[2] == 0:
         raise InvalidInputError(
             f"path.evaluate(s, order) must return shape (len(s), ndof), got {derivatives.shape[1:]}"
         )
     if not np.all(np.isfinite(derivatives)):
         raise InvalidInputError("path.evaluate(s, order) returned NaN or inf on the grid")
-    pieces = hermite_pieces(derivatives[:, :-1], derivatives[:, 1:], np.diff(s)[:, None])
+    at_start, at_end = derivatives[:, :-1].copy(), derivatives[:, 1:].copy()
+    # At the path's inner breakpoints a derivative may jump (a corner): there each
+    # interval takes the derivatives of its own side, read a hair inside it.
+    inner = np.asarray(path.breakpoints, dtype=float)[1:-1]
+    where = np.flatnonzero(np.isin(s, inner))
+    if where.size:
+        hair = 1e-9 * (s[-1] - s[0])
+        for k in (1, 2):
+            after = np.asarray(path.evaluate(s[where] + hair, k), dtype=float)
+            before = np.asarray(path.evaluate(s[where] - hair, k), dtype=float)
+            size = max(float(np.abs(derivatives[k]).max()), 1.0)
+            jump = np.abs(after - before).max(axis=1) > 1e-6 * size
+            right, left = where[jump], where[jump]
+            at_start[k, right[right < s.size - 1]] = after[jump][right < s.size - 1]
+            at_end[k, left[left > 0] - 1] = before[jump][left > 0]
+    pieces = hermite_pieces(at_start, at_end, np.diff(s)[:, None])
     polynomial = Trajectory(s, pieces)
     probes = (s[:-1, None] + np.diff(s)[:, None] * np.array([0.25, 0.5, 0.75])).ravel()
     stray = np.abs(polynomial.evaluate(probes) - np.asarray(path.evaluate(probes, 0))).max()
