@@ -13,6 +13,7 @@ from trajkit.mobile.control import (
     PurePursuit,
     saturate,
 )
+from trajkit.mobile.fastest import time_optimal
 from trajkit.mobile.flatness import (
     FigureEight,
     FlatOutput,
@@ -32,7 +33,6 @@ from trajkit.mobile.models import (
 )
 from trajkit.mobile.plans import constant_twist, rotate_translate_rotate
 from trajkit.mobile.simulate import SimulationLog, simulate
-from trajkit.mobile.time_optimal import time_optimal
 from trajkit.mobile.trajectory import Arc, MobileState, MobileTrajectory, Segment, Straight, Turn
 
 __all__ = [

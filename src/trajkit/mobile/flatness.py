@@ -231,6 +231,11 @@ class FlatSegment(Segment):
                 # not a later dip (a near-stop), which the closed forms handle.
                 edge = grid[fast[0]] if side > 0 else grid[fast[-1]]
                 reach = abs(edge - t_stop) if fast.size else span / 2
+                # ... and no further than the output's piece at the stop: past a
+                # breakpoint the series of that piece does not describe it.
+                pieces = np.abs(inside - t_stop)
+                if pieces.size:
+                    reach = min(reach, float(pieces.min()))
                 self._stops.append(_StopSeries(output, t_stop, side, span, self._peak_speed, reach))
         raw = self._state(self._grid, unwrap=False)
         theta = np.unwrap(raw[2])

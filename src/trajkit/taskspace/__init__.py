@@ -12,6 +12,7 @@ The course's 3-DOF arm draws a straight line in 10 s with a cubic time law:
 True
 """
 
+from trajkit.taskspace.fastest import TimeOptimalMove, time_optimal
 from trajkit.taskspace.joint_space import JointSpacePlan, to_joint_space
 from trajkit.taskspace.motion import (
     TaskSegment,
@@ -22,7 +23,6 @@ from trajkit.taskspace.motion import (
     timed,
 )
 from trajkit.taskspace.paths import Arc, Ellipse, FigureEight, Line, Path, Polyline
-from trajkit.taskspace.time_optimal import TimeOptimalMove, time_optimal
 
 __all__ = [
     "Arc",

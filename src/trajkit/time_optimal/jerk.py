@@ -144,7 +144,7 @@ def moving_average(times: FloatArray, sigma: FloatArray, window: float
     # The average's pieces: between every knot shifted by +-w/2, inside its span.
     edges = np.union1d(knots + half, knots - half)
     edges = edges[(edges >= start - half) & (edges <= end + half)]
-    edges = np.union1d(edges, [start - half, end + half])
+    edges = _distinct(np.union1d(edges, [start - half, end + half]))
     middles = (edges[:-1] + edges[1:]) / 2.0
     out = np.zeros((middles.size, degree + 2))
     for sign in (1.0, -1.0):  # (F(t + w/2) - F(t - w/2)) / w
@@ -155,6 +155,20 @@ def moving_average(times: FloatArray, sigma: FloatArray, window: float
         moved = _poly.shift_origin(descending, -shift)  # F(tau + shift)
         out += sign * moved[::-1].T
     return edges - edges[0], out / window
+
+
+def _distinct(edges: FloatArray) -> FloatArray:
+    """Sorted edges without the near-duplicates that shifted knots leave (1e-12 of the span).
+
+    ``knot + w/2`` and ``knot' - w/2`` can be equal but for rounding; a piece between
+    them would have no length.
+    """
+    keep = np.append(True, np.diff(edges) > 1e-12 * (edges[-1] - edges[0]))
+    keep[-1] = True
+    out = edges[keep]
+    if out.size > 2 and out[-1] - out[-2] <= 1e-12 * (out[-1] - out[0]):
+        out = np.delete(out, -2)
+    return out
 
 
 def _segment(path: Trajectory, s: FloatArray, speed: FloatArray, u: FloatArray,
@@ -180,7 +194,7 @@ def _segment(path: Trajectory, s: FloatArray, speed: FloatArray, u: FloatArray,
         if inside.size:
             cuts.append(edges[k] + float(inside.min()))
     if cuts:
-        fine = np.union1d(edges, cuts)
+        fine = _distinct(np.union1d(edges, cuts))
         where = np.clip(np.searchsorted(edges, fine[:-1], side="right") - 1, 0,
                         average.shape[0] - 1)  # fmt: skip
         shift = fine[:-1] - edges[where]

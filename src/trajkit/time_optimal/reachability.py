@@ -141,7 +141,12 @@ class Stages:
             start[unbounded] = _maximum_velocity_curve(
                 *(r[unbounded] for r in rows), low_b, high_b, scale
             )
-        stage_cap = _feasible_below(start, valid, rate, high, low)
+        stage_cap, doubt = _feasible_below(start, valid, rate, high, low)
+        if doubt.any():  # all pairs of rows, exactly
+            rows = (valid, rate, high, low, slope_u, curve_x)
+            k = np.flatnonzero(doubt)
+            stage_cap[k] = np.minimum(start[k], _maximum_velocity_curve(
+                *(r[k] for r in rows), low_b, high_b, scale))  # fmt: skip
         self._rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, scale)
         self.acceleration_cap = np.append(stage_cap, at_points[-1])
         self._exact = np.zeros(delta.size + 1, dtype=bool)
@@ -174,6 +179,10 @@ class Stages:
         if not finite.any():
             return self.velocity_cap
         w = np.where(finite, w, w[finite].max())
+        # A cap far above its neighbours (where the path's tangent vanishes, at its
+        # end say) would make the interpolated rate between them huge and crush the
+        # neighbour's cap; no timing goes from one to the other within an interval.
+        w = np.minimum(w, 4.0 * np.minimum(np.append(w[1:], np.inf), np.insert(w[:-1], 0, np.inf)))
         square = np.zeros((2 * degree + 1, *ascending.shape[1:]))
         for i in range(degree + 1):
             square[i : i + degree + 1] += ascending[i] * ascending
@@ -330,14 +339,16 @@ def _maximum_velocity_curve(
 
 def _feasible_below(
     cap: FloatArray, valid: FloatArray, rate: FloatArray, high: FloatArray, low: FloatArray
-) -> FloatArray:
+) -> tuple[FloatArray, np.ndarray]:
     """Lower each stage's ``cap`` to the largest x where all its rows leave room for u.
 
     ``room(x) = min_k U_k(x) - max_j L_j(x)`` is concave and piecewise linear; from an
     x where it is negative, the root of its active piece is still at or beyond the
     largest root (a concave function lies below its pieces' lines), so a few such
-    Newton steps from the right land on it exactly.
+    Newton steps from the right land on it exactly. Returns the caps and the stages
+    where rounding or the step count left that in doubt.
     """
+    doubt = np.zeros(cap.size, dtype=bool)
     upper = np.where(valid, high, np.inf)
     lower = np.where(valid, low, -np.inf)
     slopes = np.where(valid, rate, 0.0)
@@ -356,9 +367,14 @@ def _feasible_below(
         fall = grow[rows, j] - grow[rows, k]  # how fast the room shrinks with x
         with np.errstate(divide="ignore", invalid="ignore"):
             root = np.where(fall > 0, x[todo] + room / np.where(fall > 0, fall, 1.0), 0.0)
+        # room < 0 cannot grow toward x = 0; a step to a millionth of x has lost the
+        # root's digits in the subtraction.
+        sound = (fall > 0) & (root > 1e-6 * x[todo])
+        doubt[todo[short & ~sound]] = True
         x[todo[short]] = np.maximum(root[short], 0.0)
-        todo = todo[short]
-    return np.maximum(x, 0.0)
+        todo = todo[short & sound]
+    doubt[todo] = True
+    return np.maximum(x, 0.0), doubt
 
 
 def recurrence(a: FloatArray, b: FloatArray, high: FloatArray, y0: float) -> FloatArray:

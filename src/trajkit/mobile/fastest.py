@@ -42,10 +42,6 @@ from trajkit.trajectory import Trajectory
 
 __all__ = ["time_optimal"]
 
-#: Where the curve's speed vanishes (its ends, typically) the heading rate is a limit:
-#: it is read this fraction of the span inside.
-_INWARD = 1e-7
-
 
 class _Curve:
     """A flat output as a path in ``s`` (what :func:`as_polynomial` reads)."""
@@ -99,13 +95,15 @@ def time_optimal(
         )
     base = resolve_model(model)
     limits = check_limits(base.limits if limits is None else limits)
+    breakpoints = np.asarray(output.breakpoints, dtype=float)
+    if isinstance(grid, bool) or not isinstance(grid, int) or grid < 2:
+        raise InvalidInputError(f"grid must be a whole number of intervals >= 2, got {grid!r}")
+    s = grid_points(breakpoints, _ends_refined(breakpoints[0], breakpoints[-1], grid))
     if isinstance(output, TrajectoryOutput):
         own = output.trajectory
         curve = Trajectory(own.breakpoints - own.start_time, own.coefficients)
-        s = grid_points(curve.breakpoints, grid)
         stray = 0.0
     else:
-        s = grid_points(np.asarray(output.breakpoints, dtype=float), grid)
         curve, stray = as_polynomial(_Curve(output), s)
     channels = _channels(curve, s, base, limits)
     x = Stages(channels).solve(0.0, 0.0)
@@ -115,20 +113,42 @@ def time_optimal(
     return MobileTrajectory(plan.segments, base, limits=limits, info=info)
 
 
+def _ends_refined(start: float, end: float, grid: int) -> FloatArray:
+    """A uniform grid with points packed geometrically toward both ends.
+
+    Where the curve stops at an end (``p' = 0``: a spline at rest), the timed curve
+    stops to fourth order; evaluated from the start of a long last piece, its
+    vanishing derivatives drown in rounding, and the base's heading rate there with
+    them. Short end pieces keep them exact.
+    """
+    span = end - start
+    near = span * np.logspace(-6, -2, 5) / grid
+    return np.unique(np.concatenate([np.linspace(start, end, grid + 1), start + near,
+                                     end - near]))  # fmt: skip
+
+
 def _channels(curve: Trajectory, s: FloatArray, model: Model, limits: MobileLimits) -> Channels:
     """The base's limited quantities as channels of the curve ``p(s)``."""
-    span = s[-1] - s[0]
     first = curve.evaluate(s, 1)
     peak = float(np.linalg.norm(first, axis=1).max())
     if peak <= 0.0:
         raise InfeasibleError("the curve never moves: there is nothing to time")
-    # At a point where the curve stops (|p'| = 0) the heading rate is its limit.
-    where = s.copy()
     still = np.linalg.norm(first, axis=1) <= 1e-9 * peak
-    inward = np.where(s < s[0] + span / 2, 1.0, -1.0) * _INWARD * span
-    where[still] = s[still] + inward[still]
-    p1, p2, p3 = (curve.evaluate(where, order) for order in (1, 2, 3))
-    _, sigma_1, theta_1, sigma_2, theta_2 = _flat_state(p1, p2, p3, 1.0)
+    p1, p2, p3 = first, curve.evaluate(s, 2), curve.evaluate(s, 3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        _, sigma_1, theta_1, sigma_2, theta_2 = _flat_state(p1, p2, p3, 1.0)
+    if still.any():
+        # Where the curve stops (p' = 0: a spline at rest at its end) the formulas are
+        # 0/0. Their limits, as p' ~ p'' σ there: |p'| grows at |p''|, the heading turns
+        # at cross(p'', p''') / (2 |p''|²) per unit of s, and its second derivative
+        # comes from the heading rate at the neighbouring grid point.
+        k = np.flatnonzero(still)
+        bend = p2[k, 0] * p3[k, 1] - p2[k, 1] * p3[k, 0]
+        sigma_1[k], sigma_2[k] = 0.0, np.linalg.norm(p2[k], axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            theta_1[k] = bend / (2.0 * sigma_2[k] ** 2)
+        neighbour = np.where(k + 1 < s.size, k + 1, k - 1)
+        theta_2[k] = (theta_1[neighbour] - theta_1[k]) / (s[neighbour] - s[k])
     slopes, curves, velocity, acceleration = [], [], [[], []], [[], []]
     for attribute, _, _ in QUANTITIES:
         bounds = getattr(limits, attribute)
