@@ -169,6 +169,8 @@ def run(
     count = os.cpu_count() or 1 if workers is None else workers
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
         raise InvalidInputError(f"workers must be a whole number >= 1, got {workers!r}")
+    if engine == "local" and address is not None:
+        raise InvalidInputError("--address is for the ray engine")
     require("pyarrow")
     if spec.keep == "samples":
         require("zarr")

@@ -14,6 +14,7 @@ others plan problem by problem: they are not batch planners.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -85,7 +86,11 @@ def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArra
 
 
 def _failed(columns: dict[str, np.ndarray], index: int, error: Exception) -> None:
-    columns["error"][index] = f"{type(error).__name__}: {error}".replace("\n", " ")
+    message = f"{type(error).__name__}: {error}".replace("\n", " ")
+    # A batch planner numbers problems within the batch it was given: the row is the
+    # problem, so its position in some batch would only mislead.
+    message = re.sub(r" \(problem \d+\)", "", re.sub(r"\bproblem \d+, ", "", message))
+    columns["error"][index] = message
 
 
 # ---------------------------------------------------------------- batch planners
@@ -155,15 +160,17 @@ def _batch_samples(done: list[tuple[np.ndarray, Any]], n: int, width: int, perio
     times = np.arange(count) * period
     values = np.full((n, count, width), np.nan)
     lengths = np.zeros(n, dtype=np.int64)
-    for rows, plans in done:
-        for start in range(0, rows.size, 256):  # bounded memory per evaluation
-            part = rows[start : start + 256]
-            sampled = plans.evaluate(times)[start : start + 256]
-            own = np.floor(durations[part] / period + 1e-9).astype(np.int64) + 1
-            mask = np.arange(count)[None, :] < own[:, None]
-            values[part] = np.where(mask[:, :, None], sampled, np.nan)
-            lengths[part] = own
+    for rows, plans in done:  # one evaluation per planned batch
+        own = np.floor(durations[rows] / period + 1e-9).astype(np.int64) + 1
+        mask = np.arange(count)[None, :] < own[:, None]
+        values[rows] = np.where(mask[:, :, None], plans.evaluate(times), np.nan)
+        lengths[rows] = own
     return values, lengths
+
+
+def _sync(options: dict) -> str | None:
+    """The sweep file's ``sync`` option as the batch planners take it ("none" is None)."""
+    return None if options["sync"] == "none" else options["sync"]
 
 
 def _run_trapezoid(robot: dict, options: dict, values: dict, period: float | None
@@ -177,7 +184,7 @@ def _run_trapezoid(robot: dict, options: dict, values: dict, period: float | Non
     def plan(rows: np.ndarray) -> Any:
         return batch.trapezoidal(values["q0"][rows], values["qf"][rows], values["vmax"][rows],
                                  values["amax"][rows], v0=values["v0"][rows],
-                                 vf=values["vf"][rows], sync=options["sync"])  # fmt: skip
+                                 vf=values["vf"][rows], sync=_sync(options))  # fmt: skip
 
     def bounds(rows: np.ndarray) -> dict[str, FloatArray]:
         return {"velocity": values["vmax"][rows], "acceleration": values["amax"][rows]}
@@ -199,7 +206,7 @@ def _run_scurve(robot: dict, options: dict, values: dict, period: float | None) 
     def plan(rows: np.ndarray) -> Any:
         return batch.scurve(values["q0"][rows], values["qf"][rows], values["vmax"][rows],
                             values["amax"][rows], values["jmax"][rows],
-                            sync=options["sync"])  # fmt: skip
+                            sync=_sync(options))  # fmt: skip
 
     def bounds(rows: np.ndarray) -> dict[str, FloatArray]:
         return {"velocity": values["vmax"][rows], "acceleration": values["amax"][rows],
@@ -373,11 +380,13 @@ def _mobile_widths(robot: dict, options: dict) -> dict[str, int]:
     return {"goal": 3, "start": 3, "vmax": 1, "wmax": 1, "amax": 1, "alpha_max": 1}
 
 
-def _model_limit(attribute: str) -> Callable[[dict], float]:
+def _model_limit(attribute: str, key: str) -> Callable[[dict], float]:
     def default(robot: dict) -> float:
         value = robot["model"].limits.magnitude(attribute)
         if value is None:
-            raise ScenarioError(f"fixed.{attribute}: required ({robot['name']} has no default)")
+            raise ScenarioError(
+                f"fixed.{key}: required ({robot['name']} has no default {attribute} limit)"
+            )
         return value
 
     return default
@@ -421,9 +430,10 @@ PLANNERS: dict[str, Planner] = {
         _run_task_space, ("velocity", "acceleration"),
     ),
     "mobile": Planner(
-        {"goal": None, "start": 0.0, "vmax": _model_limit("velocity"),
-         "wmax": _model_limit("angular_velocity"), "amax": _model_limit("acceleration"),
-         "alpha_max": _model_limit("angular_acceleration")},
+        {"goal": None, "start": 0.0, "vmax": _model_limit("velocity", "vmax"),
+         "wmax": _model_limit("angular_velocity", "wmax"),
+         "amax": _model_limit("acceleration", "amax"),
+         "alpha_max": _model_limit("angular_acceleration", "alpha_max")},
         {"profile": ("trapezoid", ("trapezoid",))}, _base_robot, _mobile_widths,
         _run_mobile, ("velocity", "acceleration"),
     ),

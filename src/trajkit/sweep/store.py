@@ -89,11 +89,13 @@ def _table(spec: SweepSpec, ids: np.ndarray, inputs: dict, result: ChunkResult, 
                                "chunk": pa.array(np.full(ids.size, chunk), pa.int32())}  # fmt: skip
     for name in sorted(inputs):
         values = np.asarray(inputs[name], dtype=float)
+        # An input named like a result (the polynomial's duration) keeps both.
+        label = f"{name}_given" if name in result.columns else name
         if values.shape[1] == 1:
-            columns[name] = pa.array(values[:, 0])
+            columns[label] = pa.array(values[:, 0])
         else:
             for j in range(values.shape[1]):
-                columns[f"{name}_{j + 1}"] = pa.array(values[:, j])
+                columns[f"{label}_{j + 1}"] = pa.array(values[:, j])
     for name, values in result.columns.items():
         if name == "error":
             columns[name] = pa.array([str(v) for v in values], pa.string())

@@ -1,0 +1,277 @@
+"""``trajkit sweep``: one summary line on success; one error line, exit 2, nothing written.
+
+Every broken rule of a sweep file is reported on one line naming the key, before any
+output folder is made; Ctrl-C keeps the finished chunks and exits 130.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from trajkit import sweep
+from trajkit.cli import main
+
+from .helpers import data_files, parts, rows
+
+EXAMPLES = sorted(
+    Path(str(path))
+    for path in (resources.files("trajkit") / "examples" / "sweeps").iterdir()
+    if path.name.endswith(".toml")
+)
+
+GOOD = """\
+[sweep]
+name = "cli trapezoids"
+planner = "trapezoid"
+problems = 10
+chunk = 5
+{sweep}
+[robot]
+joints = 2
+{robot}
+[fixed]
+amax = 2.0
+{fixed}
+[swept]
+q0 = {{ uniform = [-1, 1] }}
+qf = {{ uniform = [-1, 1] }}
+{swept}
+"""
+
+
+def good(sweep: str = "", robot: str = "", fixed: str = "vmax = 1.0", swept: str = "") -> str:
+    return GOOD.format(sweep=sweep, robot=robot, fixed=fixed, swept=swept)
+
+
+def cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    status = main(list(argv))
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def assert_one_error_line(err: str, *names: str) -> None:
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("trajkit: error: "), err
+    assert "Traceback" not in err
+    for name in names:
+        assert name in lines[0], (name, err)
+
+
+BAD_FILES = {
+    "invalid-toml": ("[sweep\nplanner = ", ["bad.toml", "is not valid TOML"]),
+    "unknown-planner": (good().replace('"trapezoid"', '"warp"'), ["sweep.planner", "'warp'"]),
+    "unknown-sweep-key": (good(sweep="speed = 3"), ["sweep.speed", "unknown key"]),
+    "unknown-fixed-key": (good(fixed="vmax = 1.0\njmax = 3.0"), ["fixed.jmax", "unknown key"]),
+    "unknown-swept-key": (good(swept="jmax = { uniform = [1, 2] }"), ["swept.jmax", "unknown"]),
+    "unknown-robot-key": (good(robot="arms = 2"), ["robot.arms", "unknown key"]),
+    "fixed-and-swept": (good(swept="vmax = { uniform = [1, 2] }"), ["vmax", "not both"]),
+    "required-missing": (good(fixed=""), ["fixed.vmax", "required"]),
+    "two-kinds": (good(fixed="", swept="vmax = { uniform = [1, 2], normal = [1, 0.1] }"),
+                  ["swept.vmax", "exactly one of", "normal, uniform"]),
+    "no-kind": (good(fixed="", swept="vmax = {}"), ["swept.vmax", "got nothing"]),
+    "unknown-kind": (good(fixed="", swept="vmax = { lognormal = [1, 2] }"),
+                     ["swept.vmax", "lognormal"]),
+    "uniform-high-below-low": (good(fixed="", swept="vmax = { uniform = [2, 1] }"),
+                               ["swept.vmax.uniform", "high end is below the low end"]),
+    "uniform-three-numbers": (good(fixed="", swept="vmax = { uniform = [1, 2, 3] }"),
+                              ["swept.vmax.uniform", "[low, high]"]),
+    "normal-negative-std": (good(fixed="", swept="vmax = { normal = [2, -1] }"),
+                            ["swept.vmax.normal", "standard deviation"]),
+    "grid-count-0": (good(fixed="", swept="vmax = { grid = [1, 2, 0] }"),
+                     ["swept.vmax.grid", "whole count >= 1"]),
+    "grid-count-fraction": (good(fixed="", swept="vmax = { grid = [1, 2, 2.5] }"),
+                            ["swept.vmax.grid", "whole count >= 1"]),
+    "values-empty": (good(fixed="", swept="vmax = { values = [] }"), ["swept.vmax.values"]),
+    "fixed-wrong-width": (good(fixed="vmax = [1, 2, 3]"), ["fixed.vmax", "one number or 2"]),
+    "values-wrong-width": (good(swept="v0 = { values = [[0, 0, 0]] }"),
+                           ["swept.v0.values[0]", "one number or 2, got 3"]),
+    "uniform-wrong-width": (good(fixed="", swept="vmax = { uniform = [[1, 1, 1], [2, 2, 2]] }"),
+                            ["swept.vmax.uniform", "one number or 2, got 3"]),
+    "not-a-number": (good(fixed='vmax = "fast"'), ["fixed.vmax"]),
+    "problems-0": (good().replace("problems = 10", "problems = 0"), ["sweep.problems", "0"]),
+    "problems-fraction": (good().replace("problems = 10", "problems = 1.5"),
+                          ["sweep.problems", "1.5"]),
+    "chunk-0": (good().replace("chunk = 5", "chunk = 0"), ["sweep.chunk"]),
+    "seed-negative": (good(sweep="seed = -1"), ["sweep.seed"]),
+    "period-0": (good(sweep="period = 0"), ["sweep.period"]),
+    "keep-everything": (good(sweep='keep = "everything"'), ["sweep.keep", "'everything'"]),
+    "unknown-sync": (good(sweep='sync = "fast"'), ["sweep.sync", "'fast'"]),
+    "joints-0": (good().replace("joints = 2", "joints = 0"), ["robot.joints"]),
+    "no-sweep-table": ("[fixed]\nvmax = 1.0\n", ["sweep", "required table is missing"]),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("case", list(BAD_FILES))
+def test_a_bad_sweep_file_is_one_error_line_and_writes_nothing(tmp_path, capsys, case):
+    text, names = BAD_FILES[case]
+    path = tmp_path / "bad.toml"
+    path.write_text(text, encoding="utf-8")
+    out = tmp_path / "out"
+    status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(out), "--quiet")
+    assert status == 2
+    assert stdout == ""
+    assert_one_error_line(err, *names)
+    assert not out.exists()
+
+
+def test_a_missing_sweep_file_is_one_error_line(tmp_path, capsys):
+    out = tmp_path / "out"
+    status, stdout, err = cli(capsys, "sweep", str(tmp_path / "nope.toml"), "--out", str(out))
+    assert (status, stdout) == (2, "")
+    assert_one_error_line(err, "cannot read the sweep file", "nope.toml")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("argv", "names"),
+    [
+        (["--workers", "0"], ["workers must be a whole number >= 1"]),
+        (["--engine", "spark"], ["--engine", "spark"]),
+        (["--workers", "two"], ["--workers", "two"]),
+    ],
+)
+def test_bad_options_are_one_error_line_and_write_nothing(tmp_path, capsys, argv, names):
+    path = tmp_path / "ok.toml"
+    path.write_text(good(), encoding="utf-8")
+    out = tmp_path / "out"
+    status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(out), "--quiet", *argv)
+    assert (status, stdout) == (2, "")
+    assert_one_error_line(err, *names)
+    assert not out.exists()
+
+
+def test_address_with_the_local_engine_is_one_error_line(tmp_path, capsys):
+    path = tmp_path / "ok.toml"
+    path.write_text(good(), encoding="utf-8")
+    status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(tmp_path / "out"),
+                              "--quiet", "--address", "auto")  # fmt: skip
+    assert (status, stdout) == (2, "")
+    assert_one_error_line(err, "--address is for the ray engine")
+
+
+def test_address_with_the_local_engine_writes_nothing(tmp_path, capsys):
+    path = tmp_path / "ok.toml"
+    path.write_text(good(), encoding="utf-8")
+    out = tmp_path / "out"
+    status, _, _ = cli(capsys, "sweep", str(path), "--out", str(out), "--address", "auto")
+    assert status == 2
+    assert not out.exists()
+
+
+def test_a_folder_of_another_sweep_is_one_error_line(tmp_path, capsys):
+    first, second = tmp_path / "first.toml", tmp_path / "second.toml"
+    first.write_text(good(), encoding="utf-8")
+    second.write_text(good(sweep="seed = 9"), encoding="utf-8")
+    out = tmp_path / "out"
+    assert cli(capsys, "sweep", str(first), "--out", str(out), "--quiet")[0] == 0
+    before = {name: (out / "data" / name).read_bytes() for name in data_files(out)}
+    status, stdout, err = cli(capsys, "sweep", str(second), "--out", str(out), "--quiet")
+    assert (status, stdout) == (2, "")
+    assert_one_error_line(err, str(out), "holds a different sweep", "'cli trapezoids'")
+    assert {name: (out / "data" / name).read_bytes() for name in data_files(out)} == before
+
+
+def test_ctrl_c_keeps_the_finished_chunks_and_exits_130(tmp_path, capsys, monkeypatch):
+    from trajkit.sweep import engines
+
+    path = tmp_path / "ok.toml"
+    path.write_text(good().replace("problems = 10", "problems = 20"), encoding="utf-8")
+    out = tmp_path / "out"
+    real = engines.plan_chunk
+
+    def plan_chunk(spec, chunk):
+        if chunk == 2:
+            raise KeyboardInterrupt
+        return real(spec, chunk)
+
+    monkeypatch.setattr(engines, "plan_chunk", plan_chunk)
+    status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(out), "--quiet",
+                              "--workers", "1")  # fmt: skip
+    assert (status, stdout) == (130, "")
+    lines = err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("trajkit: interrupted"), err
+    assert "Traceback" not in err
+    assert data_files(out) == parts(2)
+    monkeypatch.setattr(engines, "plan_chunk", real)
+    status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(out), "--quiet",
+                              "--workers", "1")  # fmt: skip
+    assert (status, err) == (0, "")
+    assert "planned 2 chunks (10 problems)" in stdout
+    assert "2 chunks were already done" in stdout
+    assert rows(out)["problem"].to_pylist() == list(range(20))
+
+
+# ---------------------------------------------------------------------- success
+def test_an_example_runs_with_one_summary_line(tmp_path, capsys):
+    example = next(path for path in EXAMPLES if path.name == "scurve_samples.toml")
+    out = tmp_path / "d"
+    status, stdout, err = cli(capsys, "sweep", str(example), "--out", str(out), "--quiet")
+    assert (status, err) == (0, "")
+    lines = stdout.splitlines()
+    assert len(lines) == 1
+    assert lines[0].startswith("six-joint S-curves with samples: planned 4 chunks (2,000 problems)")
+    assert "0 failed, 0 infeasible; 0 chunks were already done" in lines[0]
+    assert lines[0].endswith(f"Rows in {out / 'data'}")
+    assert rows(out).num_rows == 2000
+    assert len(list((out / "samples").iterdir())) == 4
+
+
+def test_progress_goes_to_stderr_unless_quiet(tmp_path, capsys):
+    path = tmp_path / "ok.toml"
+    path.write_text(good(), encoding="utf-8")
+    status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(tmp_path / "out"),
+                              "--workers", "1")  # fmt: skip
+    assert status == 0
+    assert len(stdout.splitlines()) == 1 and "(10 problems)" in stdout
+    lines = err.splitlines()
+    assert lines and lines[-1].startswith("[####################] 2/2 chunks, 10 problems")
+    assert all("error" not in line for line in lines)
+
+
+def test_examples_ship_with_the_package():
+    assert [path.name for path in EXAMPLES] == [
+        "scurve_samples.toml", "trapezoid_6dof.toml", "ur5_lines.toml",
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=[path.stem for path in EXAMPLES])
+def test_every_example_parses(example):
+    spec = sweep.load(example)
+    data = tomllib.loads(example.read_text(encoding="utf-8"))
+    assert spec.planner == data["sweep"]["planner"]
+    assert spec.problems == data["sweep"]["problems"]
+    assert spec.chunk == data["sweep"]["chunk"]
+    assert spec.name == data["sweep"]["name"]
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=[path.stem for path in EXAMPLES])
+def test_a_reduced_copy_of_every_example_runs(tmp_path, capsys, example):
+    text = example.read_text(encoding="utf-8")
+    text, found = re.subn(r"(?m)^problems = \d+", "problems = 12", text)
+    assert found == 1
+    text, found = re.subn(r"(?m)^chunk = \d+", "chunk = 5", text)
+    assert found == 1
+    copy = tmp_path / example.name
+    copy.write_text(text, encoding="utf-8")
+    out = tmp_path / "out"
+    status, stdout, err = cli(capsys, "sweep", str(copy), "--out", str(out), "--quiet",
+                              "--workers", "1")  # fmt: skip
+    assert (status, err) == (0, "")
+    assert "planned 3 chunks (12 problems)" in stdout
+    table = rows(out)
+    assert table["problem"].to_pylist() == list(range(12))
+    errors = [e for e in table["error"].to_pylist() if e]
+    if sweep.load(copy).planner == "task_space":
+        assert all(e.startswith("UnreachableError: ") for e in errors)  # rows, by design
+        assert len(errors) < 12
+    else:
+        assert errors == []
+        assert all(table["feasible"].to_pylist())
+        assert np.isfinite(table["duration"].to_numpy()).all()
