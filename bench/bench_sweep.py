@@ -6,7 +6,8 @@ For trapezoid and S-curve sweeps (rest to rest between random configurations):
 problems per second of the local engine with 1 and 2 worker processes (their
 ratio is the scaling), and of a local Ray instance with 2 CPUs, started before
 the clock runs. Ray's overhead per chunk is its extra time over the local engine
-with the same workers, divided by the number of chunks. Each figure is the
+with the same workers, divided by the number of chunks: on the big chunks, and on
+400 chunks of 50 problems, where a chunk's own work is small. Each figure is the
 median of --repeats runs, each into a fresh folder. Requires trajkit[scale].
 """
 
@@ -69,6 +70,13 @@ def main() -> None:
         print(f"{planner:>9} {plan.chunks:>6} {args.problems / one:>13,.0f} "
               f"{args.problems / two:>13,.0f} {one / two:>7.2f}x {args.problems / on_ray:>11,.0f} "
               f"{1e3 * overhead:>16.1f} ms")  # fmt: skip
+    # Per-chunk cost, where it shows: 400 chunks of 50 problems each.
+    small = spec("trapezoid", 20_000, 50)
+    local, on_ray = (seconds(small, engine, 2, args.repeats) for engine in ("local", "ray"))
+    per = 1e3 / small.chunks
+    print(f"{small.chunks} chunks of {small.chunk} problems: local {per * local:.2f} ms/chunk, "
+          f"ray {per * on_ray:.2f} ms/chunk, ray's overhead {per * (on_ray - local):.2f} "
+          "ms/chunk")  # fmt: skip
     ray.shutdown()
 
 
