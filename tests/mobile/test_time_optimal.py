@@ -271,3 +271,19 @@ def test_a_unicycle_has_no_wheels_to_limit():
 def test_the_model_must_be_a_mobile_model():
     with pytest.raises(InvalidInputError, match=r"model must be a trajkit\.mobile Unicycle or"):
         time_optimal(SPLINE, model="jackal", limits=SYMMETRIC)
+
+
+@pytest.mark.parametrize("grid", [100, 500])
+@pytest.mark.parametrize(
+    "waypoints",
+    [[[0, 0], [2, 1], [4, 0], [5, 2]], [[0, 0], [3, 1]], [[0, 0], [1, 0], [2, 1]]],
+    ids=["readme", "straight", "bend"],
+)
+def test_curves_at_rest_need_no_slow_down_on_coarse_and_fine_grids(waypoints, grid):
+    """Regression: heading rates near a stop at the curve's end were rounding noise."""
+    curve = spline_output(waypoints)
+    plan = time_optimal(curve, model=jackal(), grid=grid)
+    uniform = flat_trajectory(curve, model=jackal(), timing="fastest")
+    assert plan.check().ok
+    assert plan.info["time_scale"] == pytest.approx(1.0, abs=1e-9)
+    assert plan.duration < uniform.duration

@@ -98,7 +98,7 @@ def time_optimal(
     breakpoints = np.asarray(output.breakpoints, dtype=float)
     if isinstance(grid, bool) or not isinstance(grid, int) or grid < 2:
         raise InvalidInputError(f"grid must be a whole number of intervals >= 2, got {grid!r}")
-    s = grid_points(breakpoints, _ends_refined(breakpoints[0], breakpoints[-1], grid))
+    s = grid_points(breakpoints, grid)
     if isinstance(output, TrajectoryOutput):
         own = output.trajectory
         curve = Trajectory(own.breakpoints - own.start_time, own.coefficients)
@@ -111,20 +111,6 @@ def time_optimal(
     plan = flat_trajectory(drive, model=base, limits=limits, timing="within_limits", stops=stops)
     info = dict(plan.info) | {"plan": "time_optimal", "grid_points": s, "path_error": stray}
     return MobileTrajectory(plan.segments, base, limits=limits, info=info)
-
-
-def _ends_refined(start: float, end: float, grid: int) -> FloatArray:
-    """A uniform grid with points packed geometrically toward both ends.
-
-    Where the curve stops at an end (``p' = 0``: a spline at rest), the timed curve
-    stops to fourth order; evaluated from the start of a long last piece, its
-    vanishing derivatives drown in rounding, and the base's heading rate there with
-    them. Short end pieces keep them exact.
-    """
-    span = end - start
-    near = span * np.logspace(-6, -2, 5) / grid
-    return np.unique(np.concatenate([np.linspace(start, end, grid + 1), start + near,
-                                     end - near]))  # fmt: skip
 
 
 def _channels(curve: Trajectory, s: FloatArray, model: Model, limits: MobileLimits) -> Channels:

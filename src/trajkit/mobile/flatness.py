@@ -356,9 +356,11 @@ class _StopSeries:
         series = derivatives / factorials[:, np.newaxis]
         series[0] = 0.0  # the speed vanishes here by definition
         # A coefficient counts when its term reaches 1e-9 of the peak speed over the
-        # segment: the same rule whatever the unit of time.
+        # segment (the same rule whatever the unit of time), and 1e-11 of the largest
+        # term: below that it is the rounding of the others (an output composed with a
+        # timing, say), and would set the stop's order wrongly.
         size = np.linalg.norm(series, axis=1) * span ** np.arange(series.shape[0])
-        nonzero = np.flatnonzero(size > 1e-9 * peak)
+        nonzero = np.flatnonzero(size > max(1e-9 * peak, 1e-11 * size.max()))
         if nonzero.size == 0 or nonzero[0] > _SERIES_TERMS - 4:
             raise InfeasibleError(
                 f"the flat output rests at t={time:.6g} s with no derivative up to the "
