@@ -100,8 +100,12 @@ def test_stale_samples_of_an_unfinished_chunk_are_replaced(sampled, tmp_path):
 
 def test_no_samples_without_keep_samples_or_beyond_the_sweep(sampled, tmp_path):
     out, _, _ = sampled
-    with pytest.raises(sweep.SweepError, match="no samples for problem 600"):
+    with pytest.raises(sweep.SweepError, match=r"problem must be a number from 0 to 599, got 600"):
         sweep.read_samples(out, PROBLEMS)
+    with pytest.raises(sweep.SweepError, match=r"got -1"):
+        sweep.read_samples(out, -1)
+    with pytest.raises(sweep.SweepError, match="holds no sweep"):
+        sweep.read_samples(tmp_path / "nowhere", 0)
     data = scurve_file()
     data["sweep"].update(keep="summary", problems=10, chunk=10)
     sweep.run(sweep.parse(data), tmp_path, workers=1)

@@ -177,3 +177,11 @@ def test_missing_mobile_limit_names_the_sweep_key():
         sweep.parse({"sweep": {"planner": "mobile", "problems": 3}, "robot": {"name": "unicycle"},
                      "fixed": {"goal": [1.0, 1.0, 0.0]}})  # fmt: skip
     assert str(caught.value).startswith("fixed.vmax:")
+
+
+@pytest.mark.parametrize(
+    ("planner", "option"), [("topp", "points"), ("topp", "grid"), ("task_space", "samples")]
+)
+def test_planner_options_below_two_are_refused_by_key(planner, option):
+    with pytest.raises(sweep.SweepError, match=rf"sweep\.{option}: expected a whole number from 2"):
+        sweep.parse({"sweep": {"planner": planner, option: 1}})

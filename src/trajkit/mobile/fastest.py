@@ -84,8 +84,9 @@ def time_optimal(
     -------
     MobileTrajectory
         ``info`` holds ``plan`` ("time_optimal"), ``time_scale`` (the uniform
-        slow-down the final check needed, 1 if none) and ``path_error`` (how far the
-        polynomial the timing follows strays from the curve, m).
+        slow-down the final check needed, 1 if none), ``grid_points`` (in the curve's
+        own time) and ``path_error`` (how far the polynomial the timing follows
+        strays from the curve, m).
     """
     if isinstance(output, Trajectory):
         output = TrajectoryOutput(output)

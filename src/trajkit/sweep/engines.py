@@ -71,8 +71,6 @@ class Summary:
 
 def _local(spec: SweepSpec, todo: list[int], workers: int, address: str | None
            ) -> Iterator[Outcome]:  # fmt: skip
-    if address is not None:
-        raise InvalidInputError("--address is for the ray engine")
     if workers == 1:
         for chunk in todo:
             yield plan_chunk(spec, chunk)
@@ -113,11 +111,13 @@ def _ray(spec: SweepSpec, todo: list[int], workers: int, address: str | None
     try:
         task = ray.remote(plan_chunk)
         shared = ray.put(spec)
+        # Keep every CPU of the cluster busy, with a chunk queued behind each.
+        window = 2 * max(workers, int(ray.cluster_resources().get("CPU", workers)))
         queue = iter(todo)
         running = {}
         for chunk in queue:
             running[task.remote(shared, chunk)] = chunk
-            if len(running) >= 2 * workers:
+            if len(running) >= window:
                 break
         while running:
             finished, _ = ray.wait(list(running), num_returns=1)
@@ -159,14 +159,32 @@ def run(
         A process pool on this machine, or Ray tasks (a local Ray instance, or the
         cluster at ``address``, e.g. ``"auto"`` or ``"ray://head:10001"``).
     workers : int, optional
-        Processes (local) or CPUs for a local Ray instance; default: all cores.
+        Processes (local) or CPUs for a local Ray instance; default: all cores. On a
+        cluster (``address``) Ray uses every CPU it has.
+    address : str, optional
+        The Ray cluster to join; only with ``engine="ray"``.
     progress : callable, optional
         Called after each chunk with (chunks done, chunks in all, problems planned
         in this run, seconds so far).
+
+    Returns
+    -------
+    Summary
+        Chunks planned now and found done, problems planned now, failed and
+        infeasible ones, and the wall time (s).
+
+    Raises
+    ------
+    InvalidInputError
+        An unknown engine, a bad ``workers``, or ``address`` with the local engine.
+    SweepError
+        ``out`` holds a different sweep.
+    ScaleUnavailableError
+        pyarrow (or zarr, or ray) is not installed.
     """
     if engine not in ENGINES:
         raise InvalidInputError(f"engine must be one of {', '.join(ENGINES)}, got {engine!r}")
-    count = os.cpu_count() or 1 if workers is None else workers
+    count = (os.cpu_count() or 1) if workers is None else workers
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
         raise InvalidInputError(f"workers must be a whole number >= 1, got {workers!r}")
     if engine == "local" and address is not None:

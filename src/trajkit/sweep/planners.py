@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from trajkit._validation import FloatArray
-from trajkit.errors import TrajkitError
+from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.scenario.reader import ScenarioError, Table
 
 __all__ = ["PLANNERS", "ChunkResult", "Planner"]
@@ -53,7 +53,6 @@ class Planner:
     robot: Callable[[Table], dict[str, Any]]
     widths: Callable[[dict[str, Any], dict[str, Any]], dict[str, int]]
     run: Run
-    quantities: tuple[str, ...]
 
 
 # --------------------------------------------------------------------------- rows
@@ -85,11 +84,12 @@ def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArra
     columns["feasible"][where] = worst <= 1e-9
 
 
-def _failed(columns: dict[str, np.ndarray], index: int, error: Exception) -> None:
+def _failed(columns: dict[str, np.ndarray], index: int, error: Exception,
+            *, batched: bool = False) -> None:  # fmt: skip
     message = f"{type(error).__name__}: {error}".replace("\n", " ")
-    # A batch planner numbers problems within the batch it was given: the row is the
-    # problem, so its position in some batch would only mislead.
-    message = re.sub(r" \(problem \d+\)", "", re.sub(r"\bproblem \d+, ", "", message))
+    if batched:  # a batch planner numbers problems within the batch it was given:
+        # the row is the problem, so its position in some batch would only mislead.
+        message = re.sub(r" \(problem \d+\)", "", re.sub(r"\bproblem \d+, ", "", message))
     columns["error"][index] = message
 
 
@@ -140,7 +140,7 @@ def _batched(
             plans = plan_batch(rows)
         except TrajkitError as exc:
             if rows.size == 1:
-                _failed(columns, int(rows[0]), exc)
+                _failed(columns, int(rows[0]), exc, batched=True)
                 continue
             half = rows.size // 2
             pending += [rows[half:], rows[:half]]
@@ -153,13 +153,27 @@ def _batched(
     return done
 
 
+#: The most memory one chunk's samples may take (bytes).
+MAX_SAMPLE_BYTES = 2**31
+
+
+def _sample_buffer(n: int, count: int, width: int) -> tuple[FloatArray, np.ndarray]:
+    """NaN-filled room for ``n`` problems of ``count`` samples each, and their lengths."""
+    size = n * count * width * 8
+    if size > MAX_SAMPLE_BYTES:
+        raise InvalidInputError(
+            f"keeping samples of {n} problems of up to {count} samples each needs "
+            f"{size / 2**30:.1f} GiB per chunk: use a smaller chunk or a longer period"
+        )
+    return np.full((n, count, width), np.nan), np.zeros(n, dtype=np.int64)
+
+
 def _batch_samples(done: list[tuple[np.ndarray, Any]], n: int, width: int, period: float,
                    durations: FloatArray) -> tuple[FloatArray, np.ndarray]:  # fmt: skip
     finite = durations[np.isfinite(durations)]
     count = int(np.floor((finite.max() if finite.size else 0.0) / period + 1e-9)) + 1
     times = np.arange(count) * period
-    values = np.full((n, count, width), np.nan)
-    lengths = np.zeros(n, dtype=np.int64)
+    values, lengths = _sample_buffer(n, count, width)
     for rows, plans in done:  # one evaluation per planned batch
         own = np.floor(durations[rows] / period + 1e-9).astype(np.int64) + 1
         mask = np.arange(count)[None, :] < own[:, None]
@@ -247,8 +261,7 @@ def _one_by_one(
     durations = columns["duration"]
     finite = durations[np.isfinite(durations)]
     count = int(np.floor((finite.max() if finite.size else 0.0) / period + 1e-9)) + 1
-    values = np.full((n, count, width), np.nan)
-    lengths = np.zeros(n, dtype=np.int64)
+    values, lengths = _sample_buffer(n, count, width)
     for i, plan in plans.items():
         own = int(np.floor(plan.duration / period + 1e-9)) + 1
         values[i, :own] = sample(plan, np.arange(own) * period)
@@ -262,7 +275,7 @@ def _report_peaks(report: Any, quantities: tuple[str, ...]) -> tuple[dict, dict]
         low, high = report.peaks[quantity]
         lower, upper = report.bounds[quantity]
         peaks[quantity] = np.maximum(np.abs(low), np.abs(high))
-        # The side each peak is on decides its bound; the tighter side is reported.
+        # The bound of the side the larger peak is on: the one it is compared with.
         bounds[quantity] = np.where(np.abs(high) >= np.abs(low), upper, -lower)
     return peaks, bounds
 
@@ -400,34 +413,32 @@ PLANNERS: dict[str, Planner] = {
         {"q0": None, "qf": None, "vmax": None, "amax": None, "v0": 0.0, "vf": 0.0},
         {"sync": _SYNC}, _joints_robot,
         _joint_widths(("q0", "qf", "vmax", "amax", "v0", "vf")), _run_trapezoid,
-        ("velocity", "acceleration"),
     ),
     "scurve": Planner(
         {"q0": None, "qf": None, "vmax": None, "amax": None, "jmax": None},
         {"sync": _SYNC}, _joints_robot,
         _joint_widths(("q0", "qf", "vmax", "amax", "jmax")), _run_scurve,
-        ("velocity", "acceleration", "jerk"),
     ),
     "polynomial": Planner(
         {"q0": None, "qf": None, "duration": None, "vmax": None, "amax": None},
         {"profile": ("quintic", ("cubic", "quintic", "septic"))}, _joints_robot,
         lambda robot, options: {"q0": robot["joints"], "qf": robot["joints"], "duration": 1,
                                 "vmax": robot["joints"], "amax": robot["joints"]},
-        _run_polynomial, ("velocity", "acceleration"),
+        _run_polynomial,
     ),
     "topp": Planner(
         {"waypoints": None, "vmax": None, "amax": None},
         {"points": 5, "grid": 200}, _joints_robot,
         lambda robot, options: {"waypoints": options["points"] * robot["joints"],
                                 "vmax": robot["joints"], "amax": robot["joints"]},
-        _run_topp, ("velocity", "acceleration"),
+        _run_topp,
     ),
     "task_space": Planner(
         {"p0": None, "pf": None, "vmax": None, "amax": None},
         {"samples": 100, "grid": 200}, _arm_robot,
         lambda robot, options: {"p0": 3, "pf": 3, "vmax": robot["joints"],
                                 "amax": robot["joints"]},
-        _run_task_space, ("velocity", "acceleration"),
+        _run_task_space,
     ),
     "mobile": Planner(
         {"goal": None, "start": 0.0, "vmax": _model_limit("velocity", "vmax"),
@@ -435,6 +446,6 @@ PLANNERS: dict[str, Planner] = {
          "amax": _model_limit("acceleration", "amax"),
          "alpha_max": _model_limit("angular_acceleration", "alpha_max")},
         {"profile": ("trapezoid", ("trapezoid",))}, _base_robot, _mobile_widths,
-        _run_mobile, ("velocity", "acceleration"),
+        _run_mobile,
     ),
 }  # fmt: skip

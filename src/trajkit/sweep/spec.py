@@ -21,13 +21,15 @@ A sweep file is TOML::
     q0 = { uniform = [-3.14, 3.14] }   # drawn per problem and component
     qf = { normal = [0.0, 1.0] }
     amax = { grid = [1.0, 4.0, 4] }    # start, stop, count
-    sync = ...                         # (strings are fixed options of the planner)
+
+The planner's options (``sync`` for trapezoid and S-curve, ``profile``, ``points``
+and ``grid``, ``samples``) go in ``[sweep]`` too; they are fixed for the sweep.
 
 Grids and value lists combine as a Cartesian product, problem ``i`` taking
 combination ``i mod (their count)``; random parameters are drawn, for each chunk,
 from a generator seeded with ``(seed, chunk index)``: a problem's inputs depend
 only on the file and its number, never on the engine or the order of execution.
-Every problem is a :class:`SweepError` naming the key.
+Every mistake in the file raises a :class:`SweepError` naming its key.
 """
 
 from __future__ import annotations
@@ -248,8 +250,8 @@ def _parse(data: dict[str, Any]) -> SweepSpec:
 def _option(head: Table, key: str, default: Any) -> Any:
     if isinstance(default, bool):
         return head.boolean(key, default)
-    if isinstance(default, int):
-        return _count(head, key, default)
+    if isinstance(default, int):  # points, grid, samples: at least 2 of each
+        return _count(head, key, default, minimum=2)
     if isinstance(default, tuple):  # (default, choices)
         return head.string(key, default[0], choices=default[1])
     return head.number(key, default, positive=True)

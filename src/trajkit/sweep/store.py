@@ -162,7 +162,13 @@ def read_samples(out: str | Path, problem: int) -> tuple[np.ndarray, np.ndarray]
     """Times (s) and sampled values ``(T, width)`` of one problem, by its number."""
     zarr = require("zarr")
     folder = Path(out)
-    meta = json.loads((folder / "sweep.json").read_text(encoding="utf-8"))
+    try:
+        meta = json.loads((folder / "sweep.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        raise SweepError(f"{out} holds no sweep (no readable sweep.json)") from None
+    if isinstance(problem, bool) or not 0 <= int(problem) < int(meta["problems"]):
+        raise SweepError(f"problem must be a number from 0 to {int(meta['problems']) - 1}, "
+                         f"got {problem!r}")  # fmt: skip
     chunk = int(problem) // int(meta["chunk"])
     path = folder / "samples" / f"chunk-{chunk:06d}.zarr"
     if not path.exists():

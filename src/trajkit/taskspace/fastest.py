@@ -81,7 +81,8 @@ def time_optimal(
     grid : int
         Grid intervals of the time-optimal parameterization.
     tolerance : float
-        Largest allowed distance of the joint curve's tool from the path.
+        Largest allowed distance of the joint curve's tool from the path (length
+        unit of the robot).
 
     Returns
     -------

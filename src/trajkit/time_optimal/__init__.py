@@ -87,14 +87,19 @@ def topp(
         interval, of twice the path's degree. ``info`` holds ``grid_points``,
         ``path_speed`` (ṡ at each), ``rounds`` (solves needed), ``slow_down`` (the
         uniform factor, 1 if none) and ``path_error`` (0 for a Trajectory path).
+        With a jerk bound the pieces are those of the smoothed timing (three times
+        the path's degree, about two per grid interval) and ``info`` holds
+        ``jerk_limited``, ``grid_points``, ``rests`` (where it stops), ``windows``
+        (the averaging window of each stretch, s), ``rounds`` and ``path_error``.
 
     Raises
     ------
     InvalidInputError
-        Malformed path, limits, grid or speeds.
+        Malformed path, limits, grid or speeds, or a path that never moves.
     InfeasibleError
-        The boundary speeds cannot be met within the limits, or the path cannot
-        be traversed (a joint's acceleration bound of one sign is 0).
+        The boundary speeds cannot be met within the limits (the message says the
+        fastest that can), or no timing keeps every limit between grid points with
+        the non-zero boundary speeds asked for.
 
     Examples
     --------
@@ -152,9 +157,28 @@ def optimal_x(
 ) -> tuple[FloatArray, int, float]:
     """``x = ṡ²`` at the grid points, tightened until the timed path keeps every limit.
 
-    ``stops`` are grid indices where the path must come to rest besides its corners.
-    Returns ``x``, the number of solves, and the uniform slow-down still needed
-    (1 unless the local tightening did not converge).
+    Parameters
+    ----------
+    path : Trajectory
+        The path ``q(s)`` (a polynomial).
+    s : ndarray, shape (N + 1,)
+        Grid points, the path's breakpoints among them.
+    velocity, acceleration : tuple of ndarray, shape (ndof,)
+        ``(lower, upper)`` bounds per joint (per second, per second squared).
+    speeds : tuple of float
+        Path speeds ``ṡ`` at the start and the end (1/s).
+    stops : array_like of int
+        Grid indices where the path must come to rest besides its corners.
+
+    Returns
+    -------
+    x : ndarray, shape (N + 1,)
+        ``ṡ²`` at the grid points (1/s²).
+    rounds : int
+        Solves needed (1 unless an interval passed a bound).
+    slow_down : float
+        The uniform slow-down still needed (1 unless the local tightening did not
+        converge).
     """
     channels = path_channels(path, s, velocity, acceleration)
     corners = np.union1d(channels.corners, np.asarray(stops, dtype=int))
@@ -193,7 +217,21 @@ def path_channels(
     velocity: tuple[FloatArray, FloatArray],
     acceleration: tuple[FloatArray, FloatArray],
 ) -> Channels:
-    """A joint path's channels: one per joint, with corners where its tangent jumps."""
+    """A joint path's channels: one per joint, with corners where its tangent jumps.
+
+    Parameters
+    ----------
+    path : Trajectory
+    s : ndarray, shape (N + 1,)
+        Grid points, the path's breakpoints among them.
+    velocity, acceleration : tuple of ndarray, shape (ndof,)
+        ``(lower, upper)`` bounds per joint.
+
+    Returns
+    -------
+    Channels
+        ``c'(σ)`` of every joint on every interval, with the bounds and corners.
+    """
     piece, offset = pieces_of(path, s)
     local = _poly.shift_origin(path.coefficients[:, piece, :], -offset[:, None])
     slope = _poly.derivative(local, 1)
@@ -202,7 +240,11 @@ def path_channels(
 
 
 def jumps(path: Trajectory, order: int) -> FloatArray:
-    """The path's inner breakpoints where its ``order``-th derivative jumps."""
+    """The path's inner breakpoints (s) where its ``order``-th derivative jumps.
+
+    A jump counts when it exceeds 1e-9 of the derivative's largest value at the
+    breakpoints (at least 1).
+    """
     inner = path.breakpoints[1:-1]
     if not inner.size:
         return inner
@@ -213,7 +255,26 @@ def jumps(path: Trajectory, order: int) -> FloatArray:
 
 
 def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
-    """The grid in ``s``: ``grid`` uniform intervals or the given points, plus breakpoints."""
+    """The grid in ``s``: ``grid`` uniform intervals or the given points, plus breakpoints.
+
+    Parameters
+    ----------
+    breakpoints : ndarray
+        The path's breakpoints, first to last (units of ``s``).
+    grid : int or array_like
+        Number of uniform intervals (>= 2), or increasing points from the first
+        breakpoint to the last.
+
+    Returns
+    -------
+    ndarray
+        Increasing grid points; points closer than 1e-12 of the span are merged.
+
+    Raises
+    ------
+    InvalidInputError
+        A grid that is not a whole number >= 2 or such a list of points.
+    """
     if breakpoints.ndim != 1 or breakpoints.size < 2 or not np.all(np.isfinite(breakpoints)):
         raise InvalidInputError("the path's breakpoints must be at least 2 finite numbers")
     start, end = float(breakpoints[0]), float(breakpoints[-1])

@@ -46,7 +46,25 @@ _WINDOWS = (0.5, 1.0, 2.0)
 
 
 def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float) -> Trajectory:
-    """The jerk-limited timing of ``path`` on the grid ``s`` (see the module notes)."""
+    """The jerk-limited timing of ``path`` on the grid ``s`` (see the module notes).
+
+    Parameters
+    ----------
+    path : Trajectory
+        The path ``q(s)``, a polynomial.
+    s : ndarray
+        Grid points in ``s``.
+    limits : Limits
+        Velocity, acceleration and jerk bounds per joint.
+    stray : float
+        How far ``path`` strays from the user's path (recorded in ``info``).
+
+    Returns
+    -------
+    Trajectory
+        At rest with zero acceleration at both ends and at every rest; every limit
+        holds exactly and the tightest is just reached.
+    """
     from trajkit.time_optimal import _sides, jumps, optimal_x
 
     ndof = path.ndof

@@ -14,13 +14,11 @@ discretization). Every bound is then affine in the interval's start ``x_i``:
 
 (the backward pass: the largest ``x_i`` from which ``x_{i+1}`` can still be
 reached; the forward pass: accelerate as hard as the bounds and the reachable set
-allow). With one term per stage such a stage is a clipped affine map, and clipped
-affine maps compose into clipped affine maps, so a whole pass is a prefix scan of
-function compositions: ``log2 N`` vectorized steps, no loop per stage. Which term
-is active at each stage is guessed, the scan run, and the guess checked against
-every term at the values found; mismatched stages are re-guessed, and after a few
-rounds an exact stage-by-stage loop takes over, so the answer never depends on
-the guess.
+allow). Each pass is sequential along the path, so it is a loop over stages; all
+the work per stage is prepared for every stage at once beforehand (the rows, each
+stage's maximum velocity curve, and the lower envelope of its lines over the
+inputs it can receive, :func:`recurrence`), and the loop evaluates one line per
+stage.
 """
 
 from __future__ import annotations
@@ -115,11 +113,11 @@ class Stages:
         second = np.concatenate([rate_of[0], rate_of.sum(axis=0)[-1:]], axis=0)
         scale = float(np.abs(first).max()) or 1.0
         left = np.concatenate([ascending[0][:1], at_end], axis=0)
-        self.velocity_cap = np.minimum(_rate_cap(first, vel_lo, vel_hi, scale),
-                                       _rate_cap(left, vel_lo, vel_hi, scale))  # fmt: skip
+        at_point = np.minimum(_rate_cap(first, vel_lo, vel_hi, scale),
+                              _rate_cap(left, vel_lo, vel_hi, scale))  # fmt: skip
         # The maximum velocity curve of the rows at each point alone: an upper bound
         # of each stage's, which Newton steps below bring down to it.
-        near = _affine(first, second, acc_lo, acc_hi, scale)
+        near = _affine_rows(first, second, acc_lo, acc_hi, np.asarray(_FLAT * scale))
         at_points = _maximum_velocity_curve(*near, first, second, acc_lo, acc_hi, scale)
         # Acceleration rows: Bernstein coefficients of c'' (on x_i) and c' + 2σ c'' (on u).
         on_u = np.einsum("cj,jnm->cnm", hull, (1.0 + 2.0 * powers) * ascending)
@@ -134,7 +132,7 @@ class Stages:
         # keeps every acceleration row of the interval, found by Newton steps from
         # above. Only up to a few times the velocity cap matters; where even the
         # points' curve is infinite (every channel still), pairs of rows give the start.
-        start = np.minimum(4.0 * self.velocity_cap[:-1], at_points[:-1])
+        start = np.minimum(4.0 * at_point[:-1], at_points[:-1])
         unbounded = np.flatnonzero(~np.isfinite(start))
         if unbounded.size:
             rows = (valid, rate, high, low, slope_u, curve_x)
@@ -150,7 +148,7 @@ class Stages:
         self._rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, scale)
         self.acceleration_cap = np.append(stage_cap, at_points[-1])
         self._exact = np.zeros(delta.size + 1, dtype=bool)
-        self.velocity_cap = self._rates_inside(ascending, vel_lo, vel_hi)
+        self.velocity_cap = self._rates_inside(ascending, at_point, vel_lo, vel_hi)
         twice = 2.0 * delta[:, None]
         # Forward: x_{i+1} = x_i + 2Δu <= (1 + 2Δr) x_i + 2Δ p_hi for every row.
         self._grow = 1.0 + twice * rate
@@ -163,8 +161,8 @@ class Stages:
         self._usable = usable
         self.corners = channels.corners
 
-    def _rates_inside(self, ascending: FloatArray, vel_lo: FloatArray, vel_hi: FloatArray
-                      ) -> FloatArray:  # fmt: skip
+    def _rates_inside(self, ascending: FloatArray, at_point: FloatArray, vel_lo: FloatArray,
+                      vel_hi: FloatArray) -> FloatArray:  # fmt: skip
         """Velocity caps that keep the rates on the whole of every interval.
 
         With ``x`` linear on an interval, ``ċ² = c'(τ)² ((1 - τ) x_i + τ x_{i+1})``. Let
@@ -174,10 +172,10 @@ class Stages:
         ``ρ`` exceeds 1 by ``O(Δ²)`` where the caps vary smoothly.
         """
         degree = ascending.shape[0] - 1
-        w = np.minimum(self.velocity_cap, self.acceleration_cap)
+        w = np.minimum(at_point, self.acceleration_cap)
         finite = np.isfinite(w)
         if not finite.any():
-            return self.velocity_cap
+            return at_point
         w = np.where(finite, w, w[finite].max())
         # A cap far above its neighbours (where the path's tangent vanishes, at its
         # end say) would make the interpolated rate between them huge and crush the
@@ -203,7 +201,7 @@ class Stages:
                         np.where((hull <= 0).all(axis=0), -vel_lo, either))  # fmt: skip
         rho = np.maximum((rate2 / side**2).max(axis=1), 1.0)
         around = np.maximum(np.append(rho, 1.0), np.insert(rho, 0, 1.0))
-        return np.minimum(self.velocity_cap, w / around)
+        return np.minimum(at_point, w / around)
 
     def caps(self, velocity_factor: FloatArray, acceleration_scale: FloatArray) -> FloatArray:
         """The maximum velocity curve (in x) with the limits tightened."""
@@ -300,13 +298,6 @@ def _affine_rows(
         lo = np.where(valid, np.where(slope > 0, lower, upper) / safe, -np.inf)
     r = np.where(valid, -curve / safe, 0.0)
     return valid, r, hi, lo
-
-
-def _affine(
-    slope: FloatArray, curve: FloatArray, lower: FloatArray, upper: FloatArray, scale: float
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """:func:`_affine_rows` with one threshold, relative to the largest slope ``scale``."""
-    return _affine_rows(slope, curve, lower, upper, np.asarray(_FLAT * scale))
 
 
 def _maximum_velocity_curve(

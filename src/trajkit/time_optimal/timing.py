@@ -46,6 +46,22 @@ def as_polynomial(path: object, s: FloatArray) -> tuple[Trajectory, float]:
     quintic Hermite spline through its position, first and second derivatives at
     the grid points ``s``; the stray is the largest distance between the two at
     the intervals' quarter and middle points (units of the path).
+
+    Parameters
+    ----------
+    path : Trajectory or GeometricPath
+    s : ndarray, shape (N + 1,)
+        Grid points.
+
+    Returns
+    -------
+    polynomial : Trajectory
+    stray : float
+
+    Raises
+    ------
+    InvalidInputError
+        ``evaluate`` missing, failing, of the wrong shape, or not finite.
     """
     if isinstance(path, Trajectory):
         return path, 0.0
@@ -123,6 +139,11 @@ def compose(path: Trajectory, times: FloatArray, sigma: FloatArray, piece: np.nd
         ``piece[i]``, in ascending powers of the local time.
     piece : ndarray of int, shape (M,)
         The path piece each time piece lies in.
+
+    Returns
+    -------
+    Trajectory
+        The composed pieces, of degree ``k d`` for a path of degree ``k``.
     """
     local = path.coefficients[:, piece, :]  # (k + 1, M, ndof)
     degree = local.shape[0] - 1
@@ -154,6 +175,21 @@ def interval_peaks(
     Exact on the whole interval, from the polynomials' extrema (the sign of each
     value is matched with its side's bound). Cubic paths have closed forms; others
     are timed and their extrema found from the roots of the next derivative.
+
+    Parameters
+    ----------
+    path : Trajectory
+    s : ndarray, shape (N + 1,)
+        Grid points.
+    x : ndarray, shape (N + 1,)
+        ``ṡ²`` at the grid points (1/s²).
+    velocity, acceleration : tuple of ndarray, shape (ndof,)
+        ``(lower, upper)`` bounds per joint.
+
+    Returns
+    -------
+    ratio_v, ratio_a : ndarray, shape (N,)
+        Per interval, the largest value-to-bound ratio (1 at the bound).
     """
     if path.degree <= 3:
         return _cubic_peaks(path, s, x, velocity, acceleration)
