@@ -421,3 +421,30 @@ def test_check_with_generous_limits_is_ok(tr: Trajectory) -> None:
     report = tk.check(tr, Limits(**specs))
     assert report.ok, str(report)
     assert set(report.peaks) == set(QUANTITIES)
+
+
+def test_report_ratios_take_each_side_with_its_own_bound():
+    # Joint 1 peaks at +1.0 (upper 2: ratio 0.5) and -0.6 (lower -0.5: ratio 1.2): the
+    # smaller peak is the one past its bound. Joint 2 never moves down.
+    report = Report((), {"velocity": (np.array([-0.6, 0.0]), np.array([1.0, 1.5]))},
+                    {"velocity": (np.array([-0.5, -1.0]), np.array([2.0, 3.0]))})  # fmt: skip
+    np.testing.assert_allclose(report.ratios("velocity"), [1.2, 0.5], rtol=1e-15)
+
+
+def test_report_ratios_of_a_zero_bound_and_of_an_unchecked_quantity():
+    report = Report((), {"velocity": (np.array([0.0, 0.0]), np.array([0.0, 0.1]))},
+                    {"velocity": (np.array([-1.0, -1.0]), np.array([0.0, 0.0]))})  # fmt: skip
+    np.testing.assert_array_equal(report.ratios("velocity"), [0.0, np.inf])
+    with pytest.raises(InvalidInputError, match="'jerk' was not checked; checked: velocity"):
+        report.ratios("jerk")
+
+
+def test_report_ratios_equal_the_checked_trajectorys_peaks():
+    trajectory = tk.trapezoidal([0.0, 0.0], [1.0, -2.0], vmax=1.0, amax=2.0)
+    limits = tk.Limits(velocity=(-4.0, 2.0), acceleration=3.0)
+    report = trajectory.check(limits)
+    velocity = trajectory.extrema(1)  # joint 1 moves up (upper 2), joint 2 down (lower -4)
+    expected = [velocity.maximum[0] / 2.0, velocity.minimum[1] / -4.0]
+    np.testing.assert_allclose(report.ratios("velocity"), expected, rtol=1e-15)
+    assert report.ratios("velocity")[1] == pytest.approx(0.25, rel=1e-12)
+    np.testing.assert_allclose(report.ratios("acceleration"), [2 / 3, 2 / 3], rtol=1e-12)

@@ -210,6 +210,34 @@ class Report:
     def __bool__(self) -> bool:
         return self.ok
 
+    def ratios(self, quantity: str) -> FloatArray:
+        """How close each joint (or channel) comes to its bound: ``peak / bound``.
+
+        The larger of ``maximum / upper`` and ``minimum / lower``: 1 at the bound,
+        above 1 past it, 0 for a side never reached. A bound of 0 that is passed
+        gives ``inf``.
+
+        Parameters
+        ----------
+        quantity : str
+            One of the checked quantities (a key of :attr:`peaks`).
+
+        Returns
+        -------
+        ndarray
+            One ratio per joint (or channel).
+        """
+        if quantity not in self.peaks:
+            raise InvalidInputError(
+                f"{quantity!r} was not checked; checked: {', '.join(self.peaks) or 'nothing'}"
+            )
+        low, high = self.peaks[quantity]
+        lower, upper = self.bounds[quantity]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            up = np.where(upper > 0, high / upper, np.where(high > 0, np.inf, 0.0))
+            down = np.where(lower < 0, low / lower, np.where(low < 0, np.inf, 0.0))
+        return np.maximum(np.maximum(up, down), 0.0)
+
     def __str__(self) -> str:
         lines = [f"limit check: {'OK' if self.ok else f'{len(self.violations)} violation(s)'}"]
         if self.peaks:

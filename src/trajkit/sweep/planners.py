@@ -23,6 +23,7 @@ import numpy as np
 
 from trajkit._validation import FloatArray
 from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.limits import Report
 from trajkit.scenario.reader import ScenarioError, Table
 
 __all__ = ["PLANNERS", "ChunkResult", "Planner"]
@@ -70,16 +71,14 @@ def _empty(n: int, width: int, quantities: tuple[str, ...]) -> dict[str, np.ndar
 
 
 def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArray,
-          peaks: dict[str, FloatArray], bounds: dict[str, FloatArray]) -> None:  # fmt: skip
-    """Rows ``where``: durations, peaks ``(k, width)`` and their worst excess over ``bounds``."""
+          peaks: dict[str, FloatArray], ratios: dict[str, FloatArray]) -> None:  # fmt: skip
+    """Rows ``where``: durations, peaks ``(k, width)``, and their worst ``peak / bound``."""
     columns["duration"][where] = duration
     worst = np.zeros(where.size)
     for quantity, peak in peaks.items():
         for j in range(peak.shape[1]):
             columns[f"peak_{quantity}_{j + 1}"][where] = peak[:, j]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(bounds[quantity] > 0, peak / bounds[quantity], np.inf)
-        worst = np.maximum(worst, (ratio - 1.0).max(axis=1))
+        worst = np.maximum(worst, (ratios[quantity] - 1.0).max(axis=1))
     columns["worst_violation"][where] = np.maximum(worst, 0.0)
     columns["feasible"][where] = worst <= 1e-9
 
@@ -147,14 +146,26 @@ def _batched(
             continue
         peaks = dict(zip(("velocity", "acceleration", "jerk"), _phase_peaks(plans.plan),
                          strict=True))  # fmt: skip
-        _fill(columns, rows, plans.durations, {q: peaks[q] for q in quantities},
-              bounds_of(rows))  # fmt: skip
+        bounds = bounds_of(rows)  # symmetric magnitudes
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratios = {q: np.where(bounds[q] > 0, peaks[q] / bounds[q], np.inf)
+                      for q in quantities}  # fmt: skip
+        _fill(columns, rows, plans.durations, {q: peaks[q] for q in quantities}, ratios)
         done.append((rows, plans))
     return done
 
 
 #: The most memory one chunk's samples may take (bytes).
 MAX_SAMPLE_BYTES = 2**31
+
+
+def _sample_counts(durations: FloatArray, period: float) -> np.ndarray:
+    """How many samples at ``0, period, ...`` fit each duration (1 if not planned).
+
+    Rounded as ``Trajectory.sample`` rounds its grid.
+    """
+    finite = np.where(np.isfinite(durations), durations, 0.0)
+    return np.floor(finite / period * (1.0 + 1e-12)).astype(np.int64) + 1
 
 
 def _sample_buffer(n: int, count: int, width: int) -> tuple[FloatArray, np.ndarray]:
@@ -170,12 +181,11 @@ def _sample_buffer(n: int, count: int, width: int) -> tuple[FloatArray, np.ndarr
 
 def _batch_samples(done: list[tuple[np.ndarray, Any]], n: int, width: int, period: float,
                    durations: FloatArray) -> tuple[FloatArray, np.ndarray]:  # fmt: skip
-    finite = durations[np.isfinite(durations)]
-    count = int(np.floor((finite.max() if finite.size else 0.0) / period + 1e-9)) + 1
+    count = int(_sample_counts(durations, period).max())
     times = np.arange(count) * period
     values, lengths = _sample_buffer(n, count, width)
     for rows, plans in done:  # one evaluation per planned batch
-        own = np.floor(durations[rows] / period + 1e-9).astype(np.int64) + 1
+        own = _sample_counts(durations[rows], period)
         mask = np.arange(count)[None, :] < own[:, None]
         values[rows] = np.where(mask[:, :, None], plans.evaluate(times), np.nan)
         lengths[rows] = own
@@ -238,46 +248,39 @@ def _one_by_one(
     n: int,
     width: int,
     quantities: tuple[str, ...],
-    plan_one: Callable[[int], tuple[Any, dict[str, FloatArray], dict[str, FloatArray]]],
+    plan_one: Callable[[int], tuple[Any, Report]],
     period: float | None,
     sample: Callable[[Any, FloatArray], FloatArray],
 ) -> ChunkResult:
-    """Plan each problem: ``plan_one(i)`` gives (plan, peaks, bounds), each (width,)."""
+    """Plan each problem: ``plan_one(i)`` gives the plan and its limit check."""
     columns = _empty(n, width, quantities)
     plans: dict[int, Any] = {}
+    peaks: dict[str, list[FloatArray]] = {q: [] for q in quantities}
+    ratios: dict[str, list[FloatArray]] = {q: [] for q in quantities}
     for i in range(n):
         try:
-            plan, peaks, bounds = plan_one(i)
+            plan, report = plan_one(i)
         except TrajkitError as exc:
             _failed(columns, i, exc)
             continue
-        where = np.array([i])
-        _fill(columns, where, np.array([plan.duration]),
-              {q: peaks[q][None, :] for q in quantities},
-              {q: bounds[q][None, :] for q in quantities})  # fmt: skip
         plans[i] = plan
+        for quantity in quantities:
+            low, high = report.peaks[quantity]
+            peaks[quantity].append(np.maximum(np.abs(low), np.abs(high)))
+            ratios[quantity].append(report.ratios(quantity))
+    if plans:  # the rows of every planned problem at once
+        where = np.fromiter(plans, dtype=np.int64)
+        _fill(columns, where, np.array([plan.duration for plan in plans.values()]),
+              {q: np.array(peaks[q]) for q in quantities},
+              {q: np.array(ratios[q]) for q in quantities})  # fmt: skip
     if period is None:
         return ChunkResult(columns)
-    durations = columns["duration"]
-    finite = durations[np.isfinite(durations)]
-    count = int(np.floor((finite.max() if finite.size else 0.0) / period + 1e-9)) + 1
-    values, lengths = _sample_buffer(n, count, width)
+    counts = _sample_counts(columns["duration"], period)
+    values, lengths = _sample_buffer(n, int(counts.max()), width)
     for i, plan in plans.items():
-        own = int(np.floor(plan.duration / period + 1e-9)) + 1
-        values[i, :own] = sample(plan, np.arange(own) * period)
-        lengths[i] = own
+        values[i, : counts[i]] = sample(plan, np.arange(counts[i]) * period)
+        lengths[i] = counts[i]
     return ChunkResult(columns, (values, lengths))
-
-
-def _report_peaks(report: Any, quantities: tuple[str, ...]) -> tuple[dict, dict]:
-    peaks, bounds = {}, {}
-    for quantity in quantities:
-        low, high = report.peaks[quantity]
-        lower, upper = report.bounds[quantity]
-        peaks[quantity] = np.maximum(np.abs(low), np.abs(high))
-        # The bound of the side the larger peak is on: the one it is compared with.
-        bounds[quantity] = np.where(np.abs(high) >= np.abs(low), upper, -lower)
-    return peaks, bounds
 
 
 def _run_polynomial(robot: dict, options: dict, values: dict, period: float | None
@@ -291,7 +294,7 @@ def _run_polynomial(robot: dict, options: dict, values: dict, period: float | No
     def plan_one(i: int) -> tuple[Any, dict, dict]:
         trajectory = law(values["q0"][i], values["qf"][i], float(values["duration"][i, 0]))
         limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
-        return (trajectory, *_report_peaks(trajectory.check(limits), quantities))
+        return trajectory, trajectory.check(limits)
 
     return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
 
@@ -309,7 +312,7 @@ def _run_topp(robot: dict, options: dict, values: dict, period: float | None) ->
         path = tk.cubic_spline(knots, way, bc="natural")
         limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
         timed = tk.topp(path, limits, grid=options["grid"])
-        return (timed, *_report_peaks(timed.check(limits), quantities))
+        return timed, timed.check(limits)
 
     return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
 
@@ -336,7 +339,7 @@ def _run_task_space(robot: dict, options: dict, values: dict, period: float | No
         limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
         move = time_optimal(arm, Line(values["p0"][i], values["pf"][i]), limits,
                             samples=options["samples"], grid=options["grid"])  # fmt: skip
-        return (move.trajectory, *_report_peaks(move.trajectory.check(limits), quantities))
+        return move.trajectory, move.trajectory.check(limits)
 
     return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
 
@@ -365,15 +368,7 @@ def _run_mobile(robot: dict, options: dict, values: dict, period: float | None) 
             values["goal"][i], values["start"][i], model=model, limits=limits,
             profile=options["profile"],
         )  # fmt: skip
-        report = plan.check(limits)
-        peaks, bounds = {}, {}
-        pairs_of = {"velocity": ("velocity", "angular velocity"),
-                    "acceleration": ("acceleration", "angular acceleration")}  # fmt: skip
-        for quantity, names in pairs_of.items():
-            pairs = [_side_peak(report, name) for name in names]
-            peaks[quantity] = np.array([p for p, _ in pairs])
-            bounds[quantity] = np.array([b for _, b in pairs])
-        return plan, peaks, bounds
+        return plan, _base_report(plan.check(limits))
 
     def sample(plan: Any, t: FloatArray) -> FloatArray:  # the base's position (x, y)
         state = plan.evaluate(t)
@@ -382,11 +377,17 @@ def _run_mobile(robot: dict, options: dict, values: dict, period: float | None) 
     return _one_by_one(n, 2, quantities, plan_one, period, sample)
 
 
-def _side_peak(report: Any, quantity: str) -> tuple[float, float]:
-    low, high = report.peaks[quantity]
-    lower, upper = report.bounds[quantity]
-    low, high, lower, upper = (float(np.ravel(v)[0]) for v in (low, high, lower, upper))
-    return (abs(high), upper) if abs(high) >= abs(low) else (abs(low), -lower)
+def _base_report(report: Report) -> Report:
+    """A base's check with (v, ω) as the two channels of velocity, and of acceleration."""
+    pairs = {"velocity": ("velocity", "angular velocity"),
+             "acceleration": ("acceleration", "angular acceleration")}  # fmt: skip
+    peaks, bounds = {}, {}
+    for quantity, names in pairs.items():
+        peaks[quantity] = tuple(np.concatenate([report.peaks[n][k] for n in names])
+                                for k in (0, 1))  # fmt: skip
+        bounds[quantity] = tuple(np.concatenate([report.bounds[n][k] for n in names])
+                                 for k in (0, 1))  # fmt: skip
+    return Report(report.violations, peaks, bounds)
 
 
 def _mobile_widths(robot: dict, options: dict) -> dict[str, int]:

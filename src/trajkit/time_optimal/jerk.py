@@ -114,10 +114,7 @@ def _scale_to(curve: Trajectory, limits: Limits) -> float:
     report = curve.check(limits)
     need = 0.0
     for order, quantity in ((1, "velocity"), (2, "acceleration"), (3, "jerk")):
-        low, high = report.peaks[quantity]
-        lower, upper = report.bounds[quantity]
-        ratio = float(np.max(np.maximum(high / upper, low / lower)))
-        need = max(need, max(ratio, 0.0) ** (1.0 / order))
+        need = max(need, float(report.ratios(quantity).max()) ** (1.0 / order))
     if not np.isfinite(need) or need <= 0.0:
         raise InfeasibleError("the smoothed timing has no finite peak to scale to the limits")
     return need * (1.0 + 1e-12)
