@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import os
+import stat
 
 import numpy as np
 import pytest
@@ -140,3 +141,78 @@ def test_mp4_with_ffmpeg(tmp_path):
     data = path.read_bytes()
     assert data[4:8] == b"ftyp"  # an MP4 container
     assert os.listdir(tmp_path) == ["base.mp4"]
+
+
+LONG_PLAN = tk.cubic([0.0, 0.0], [1.0, -1.0], duration=2.0)  # 51 frames at 25 fps: a bar
+
+
+def test_an_interrupt_before_the_first_frame_stays_an_interrupt(tmp_path, monkeypatch):
+    # PillowWriter fails on closing when it has no frame (IndexError); Ctrl-C must win.
+    from matplotlib import animation
+
+    def interrupted(self, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(animation.PillowWriter, "grab_frame", interrupted)
+    with pytest.raises(KeyboardInterrupt) as excinfo:
+        animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="xz", fps=5, size=1.0)
+    assert excinfo.value.__cause__ is None
+    assert os.listdir(tmp_path) == []
+
+
+def test_an_interrupted_progress_bar_ends_its_line(tmp_path, monkeypatch):
+    from matplotlib import animation
+
+    original = animation.PillowWriter.grab_frame
+    calls = {"frames": 0}
+
+    def grab(self, **kwargs):
+        calls["frames"] += 1
+        if calls["frames"] == 20:
+            raise KeyboardInterrupt
+        return original(self, **kwargs)
+
+    monkeypatch.setattr(animation.PillowWriter, "grab_frame", grab)
+    stream = io.StringIO()
+    with pytest.raises(KeyboardInterrupt):
+        animate.arm(RRBot(), LONG_PLAN, tmp_path / "arm.gif", view="xz", size=1.0,
+                    progress=stream)  # fmt: skip
+    text = stream.getvalue()
+    assert text.endswith("%\n")  # the next message starts on its own line
+    assert text.count("\n") == 1
+    assert "100%" not in text  # cut short
+    assert os.listdir(tmp_path) == []
+
+
+def test_the_progress_bar_shows_the_final_name_of_a_staged_file(tmp_path, monkeypatch):
+    from matplotlib import animation
+
+    from trajkit.io import staged_files
+
+    original = animation.PillowWriter.grab_frame
+    calls = {"frames": 0}
+
+    def grab(self, **kwargs):  # a few frames are enough to see the bar's label
+        calls["frames"] += 1
+        if calls["frames"] == 3:
+            raise KeyboardInterrupt
+        return original(self, **kwargs)
+
+    monkeypatch.setattr(animation.PillowWriter, "grab_frame", grab)
+    stream = io.StringIO()
+    with pytest.raises(KeyboardInterrupt), staged_files() as stage:
+        animate.arm(RRBot(), LONG_PLAN, stage.path(tmp_path / "arm.gif"), view="xz", size=1.0,
+                    progress=stream)  # fmt: skip
+    text = stream.getvalue()
+    assert text.startswith("\ranimating arm.gif [")
+    assert "trajkit-tmp" not in text
+    assert os.listdir(tmp_path) == []
+
+
+def test_animations_get_the_usual_permissions(tmp_path):
+    old_umask = os.umask(0o022)
+    try:
+        gif = animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="xz", fps=5, size=1.0)
+    finally:
+        os.umask(old_umask)
+    assert stat.S_IMODE(gif.stat().st_mode) == 0o644  # 0666 less the umask, not 0600

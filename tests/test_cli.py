@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import errno
+import os
 import subprocess
 import sys
 
@@ -353,3 +355,236 @@ def test_mobile_bad_step_fails_before_any_output(capsys, tmp_path):
     assert status == 2 and out == ""
     assert err == "trajkit: error: --dt must be a time > 0 s, got -1\n"
     assert not csv.exists()
+
+
+# ------------------------------------------- one-line messages in the user's words and units
+
+TINY_SCENARIO = """name = "tiny"
+
+[robot]
+builtin = "rrbot"
+
+[task]
+kind = "joint_move"
+q0 = [0, 0]
+qf = [1, -1]
+profile = "cubic"
+duration = 2.0
+
+[outputs]
+csv = true
+plot = false
+"""
+
+
+def tiny_scenario(folder, *, animation: bool = False):
+    path = folder / "tiny.toml"
+    extra = '\nanimation = "gif"\nanimation_fps = 5\n' if animation else ""
+    path.write_text(TINY_SCENARIO + extra, encoding="utf-8")
+    return path
+
+
+def test_numpy_warnings_never_precede_the_error_line(tmp_path, capsys):
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        status, out, err = run(capsys, "plan", "cubic", "--q0", "0", "--qf", "1", "--duration",
+                               "1e308", "--csv", str(tmp_path / "x.csv"))  # fmt: skip
+    # Which check refuses the overflow is the planners' business; here: one line only.
+    assert status == 2
+    assert out == ""
+    assert err.startswith("trajkit: error: ") and err.count("\n") == 1, err
+    assert "Warning" not in err
+    assert [str(w.message) for w in caught] == []  # none escaped to be printed
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_console_prints_exactly_one_line_for_an_overflowing_duration(tmp_path):
+    result = subprocess.run(
+        [sys.executable, "-c", "import sys; from trajkit.cli import main; sys.exit(main())",
+         "plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1e308", "--csv", "x.csv"],
+        capture_output=True, text=True, cwd=tmp_path, timeout=120,
+    )  # fmt: skip
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1, result.stderr
+    assert result.stderr.startswith("trajkit: error: ")
+    assert "Warning" not in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_warnings_of_a_successful_command_are_shown_once(capsys, monkeypatch):
+    import warnings
+
+    import trajkit.cli as cli
+
+    def noisy(args):
+        for _ in range(3):
+            warnings.warn("overflow encountered in power", RuntimeWarning, stacklevel=1)
+        return 0
+
+    monkeypatch.setattr(cli, "_plan", noisy)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert main(["plan", "cubic", "--q0", "0", "--qf", "1"]) == 0
+    assert [(w.category, str(w.message)) for w in caught] == [
+        (RuntimeWarning, "overflow encountered in power")
+    ]
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (["plan", "cubic", "--q0", "0", "--qf", "90", "--duration", "0.1", "--vmax", "10",
+          "--deg"],
+         "duration 0.1 s is below the minimum 13.5 s set by vmax=10 deg/s (joint 1)"),
+        (["plan", "trapezoid", "--q0", "0", "--qf", "90", "--vmax", "10", "--amax", "5",
+          "--v0", "20", "--deg"],
+         "v0=20 deg/s is beyond the velocity limit 10 deg/s (joint 1)"),
+        (["plan", "cubic", "--q0", "0", "--qf", "90", "--vmax", "-12.345678", "--deg"],
+         "vmax must be > 0 for every joint, got -12.345678 deg/s for joint 1"),
+        (["plan", "cubic", "--q0", "0", "--qf", "90", "--duration", "0.5", "--vmax", "10",
+          "--amax", "1", "--deg"],
+         "duration 0.5 s is below the minimum 23.2379 s set by amax=1 deg/s^2 (joint 1)"),
+        # Without --deg the same message stays in radians.
+        (["plan", "cubic", "--q0", "0", "--qf", "1.5", "--duration", "0.1", "--vmax", "10"],
+         "duration 0.1 s is below the minimum 0.225 s set by vmax=10 rad/s (joint 1)"),
+    ],
+)  # fmt: skip
+def test_errors_quote_the_values_in_the_users_units(argv, expected, capsys):
+    status, out, err = run(capsys, *argv)
+    assert (status, out, err) == (2, "", f"trajkit: error: {expected}\n")
+
+
+def test_os_errors_name_the_path_in_plain_words(tmp_path, capsys):
+    (tmp_path / "afile").write_bytes(b"")
+    cases = [
+        (["run", str(tmp_path / "nothere.toml")],
+         f"cannot read {tmp_path / 'nothere.toml'}: no such file or folder"),
+        (["run", str(tiny_scenario(tmp_path)), "--out", str(tmp_path / "afile")],
+         f"--out {tmp_path / 'afile'} is a file, not a folder"),
+        (["demo", "--out", str(tmp_path / "afile")],
+         f"--out {tmp_path / 'afile'} is a file, not a folder"),
+        (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--csv",
+          str(tmp_path / "afile" / "m.csv")],
+         f"cannot write {tmp_path / 'afile' / 'm.csv'}: {tmp_path / 'afile'} is a file, "
+         "not a folder"),
+    ]  # fmt: skip
+    for argv, expected in cases:
+        status, out, err = run(capsys, *argv)
+        assert (status, out, err) == (2, "", f"trajkit: error: {expected}\n"), argv
+        assert "Errno" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile", "tiny.toml"]
+
+
+@pytest.mark.parametrize(
+    ("code", "words"),
+    [
+        (errno.ENOSPC, "no space left on device"),
+        (errno.EIO, "input/output error (the disk or the network share failed)"),
+        (errno.EACCES, "permission denied"),
+        (errno.EROFS, "the file system is read-only"),
+    ],
+)
+def test_write_failures_name_the_file_and_the_reason(code, words, tmp_path, capsys, monkeypatch):
+    import trajkit.io.table
+
+    def failing(*args, **kwargs):
+        raise OSError(code, os.strerror(code))  # what write() raises: no file named
+
+    monkeypatch.setattr(trajkit.io.table.np, "savetxt", failing)
+    csv, png = tmp_path / "m.csv", tmp_path / "m.png"
+    png.write_bytes(b"old plot")
+    status, out, err = run(capsys, "plan", "cubic", "--q0", "0", "--qf", "1", "--duration",
+                           "1", "--csv", str(csv), "--plot", str(png))  # fmt: skip
+    assert (status, out) == (2, "")
+    assert err == f"trajkit: error: cannot write {csv}: {words}\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.png"]
+    assert png.read_bytes() == b"old plot"
+
+
+def test_a_closed_pipe_ends_the_output_quietly(tmp_path):
+    # Enough lines to fill the pipe, so that writing really fails once head has gone.
+    goals = ",".join(str(k % 7) for k in range(5000))
+    writer = subprocess.Popen(
+        [sys.executable, "-c", "import sys; from trajkit.cli import main; sys.exit(main())",
+         "plan", "cubic", "--q0", "0", "--qf", goals, "--duration", "1"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path,
+    )  # fmt: skip
+    head = subprocess.Popen(["head", "-2"], stdin=writer.stdout, stdout=subprocess.PIPE)
+    writer.stdout.close()  # head alone reads the pipe
+    shown, _ = head.communicate(timeout=120)
+    errors = writer.stderr.read()
+    writer.stderr.close()
+    assert writer.wait(timeout=120) == 141  # 128 + SIGPIPE, as for `yes | head -2`
+    assert errors == b""
+    assert shown.decode().splitlines() == [
+        "cubic move: 5000 joint(s), duration 1 s",
+        "units: positions rad, velocities rad/s, accelerations rad/s^2",
+    ]
+
+
+# --------------------------------------------------------------- output folders and reports
+
+
+@pytest.mark.parametrize("failure", [KeyboardInterrupt, tk.InfeasibleError])
+def test_a_failed_run_leaves_no_out_folder_it_created(failure, tmp_path, capsys, monkeypatch):
+    import importlib
+
+    execute = importlib.import_module("trajkit.scenario.execute")
+
+    def stop(*args, **kwargs):
+        raise failure("stop")
+
+    monkeypatch.setattr(execute, "_write", stop)
+    out = tmp_path / "new" / "deeper"
+    status, _, err = run(capsys, "run", str(tiny_scenario(tmp_path)), "--out", str(out))
+    assert status == (130 if failure is KeyboardInterrupt else 2)
+    assert err.count("\n") == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
+    # A folder that existed before stays, even empty.
+    out.mkdir(parents=True)
+    assert run(capsys, "run", str(tiny_scenario(tmp_path)), "--out", str(out))[0] != 0
+    assert out.is_dir() and list(out.iterdir()) == []
+
+
+def test_an_interrupt_as_the_animation_starts_is_an_interrupt(tmp_path, capsys, monkeypatch):
+    from matplotlib import animation
+
+    def interrupted(self, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(animation.PillowWriter, "grab_frame", interrupted)
+    out = tmp_path / "out"
+    status, _, err = run(capsys, "run", str(tiny_scenario(tmp_path, animation=True)), "--out",
+                         str(out))  # fmt: skip
+    assert (status, err) == (130, "trajkit: interrupted; nothing was written\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
+
+
+def test_demo_and_run_never_replace_each_others_report(tmp_path, capsys):
+    out = tmp_path / "shared"
+    status, _, err = run(capsys, "run", str(tiny_scenario(tmp_path)), "--out", str(out),
+                         "--report")  # fmt: skip
+    assert status == 0, err
+    page = (out / "index.html").read_bytes()
+    status, out_text, err = run(capsys, "demo", "--out", str(out))
+    assert (status, out_text) == (2, "")
+    assert err == (
+        f"trajkit: error: out {out} already holds the index.html of 'trajkit: tiny', which the "
+        "demo would replace: choose another folder or remove that file\n"
+    )
+    assert (out / "index.html").read_bytes() == page
+    assert sorted(p.name for p in out.iterdir()) == ["index.html", "tiny.csv", "tiny_summary.txt"]
+    # The other way round: a demo's page is not replaced by a run's report either.
+    (out / "index.html").write_text("<!DOCTYPE html><html><head><title>trajkit demo</title>")
+    status, _, err = run(capsys, "run", str(tiny_scenario(tmp_path)), "--out", str(out),
+                         "--report")  # fmt: skip
+    assert status == 2
+    assert err == (
+        f"trajkit: error: --out {out} already holds the index.html of 'trajkit demo'; --report "
+        "would replace it: choose another folder or remove that file\n"
+    )
+    # Rerunning into one's own folder replaces one's own page.
+    (out / "index.html").write_text("<html><head><title>trajkit: tiny</title>")
+    assert run(capsys, "run", str(tiny_scenario(tmp_path)), "--out", str(out), "--report")[0] == 0

@@ -189,3 +189,27 @@ def test_ur5_on_the_command_line_has_its_real_link_masses(capsys):
     # Peak shoulder torque: the 8.4 kg upper arm and the rest held against gravity.
     shoulder = next(line for line in out.splitlines() if line.startswith("  shoulder_lift"))
     assert float(shoulder.split("peak effort ")[1].split()[0]) > 40.0
+
+
+def test_a_gl_backend_that_fails_to_load_only_skips_the_frames(tmp_path):
+    # MuJoCo loads MUJOCO_GL's library when it is imported, so this needs a fresh process.
+    import os
+    import subprocess
+
+    ctypes_util = __import__("ctypes.util").util
+    if ctypes_util.find_library("OSMesa") is not None:
+        pytest.skip("OSMesa is installed here: MUJOCO_GL=osmesa would work")
+    env = {**os.environ, "MUJOCO_GL": "osmesa"}
+    env.pop("PYOPENGL_PLATFORM", None)
+    result = subprocess.run(
+        [sys.executable, "-c", "import sys; from trajkit.cli import main; sys.exit(main())",
+         "plan", "cubic", "--q0", "0", "0", "--qf", "1", "1", "--duration", "0.2", "--sim",
+         "mujoco", "--frames", "frames", "--sim-csv", "sim.csv"],
+        capture_output=True, text=True, cwd=tmp_path, env=env, timeout=300,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert result.stderr.count("\n") == 1
+    assert result.stderr.startswith("trajkit: note: no frames rendered: off-screen rendering ")
+    assert "MUJOCO_GL='osmesa' failed to load when MuJoCo was imported" in result.stderr
+    assert "wrote sim.csv" in result.stdout
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sim.csv"]  # no frames folder

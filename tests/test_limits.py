@@ -124,7 +124,7 @@ def test_limits_are_frozen() -> None:
         ({"jerk": [2.0, -1.0]}, r"jerk limits must be > 0"),
         ({"velocity": np.nan}, r"velocity must be finite"),
         ({"velocity": [1.0, np.inf]}, r"velocity must be finite"),
-        ({"velocity": "fast"}, r"velocity must be numeric"),
+        ({"velocity": "fast"}, r"velocity must be a real number, got 'fast' \(a string\)"),
         ({"velocity": [[1.0, 2.0]]}, r"velocity must be a number or one number per joint"),
         # A 2-tuple is (lower, upper): per-joint symmetric limits must be a list.
         ({"velocity": (0.5, 2.0)}, r"must contain 0.*pass a list"),
@@ -410,17 +410,48 @@ def test_check_agrees_with_dense_sampling(case: tuple[Trajectory, Limits], rtol:
             assert tr.start_time - span <= v.time <= tr.end_time + span
 
 
+def _jump_oracle(tr: Trajectory, order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Jumps of derivative ``order`` at the inner breakpoints by plain polyval, and the
+    size of the terms they come from: ``(m - 1, ndof)`` each."""
+    c = tr.derivative(order).coefficients
+    h = np.diff(tr.breakpoints)
+    jumps, scales = [], []
+    for i in range(len(h) - 1):
+        left = np.array([np.polyval(c[:, i, j], h[i]) for j in range(tr.ndof)])
+        terms = np.array([np.polyval(np.abs(c[:, i, j]), h[i]) for j in range(tr.ndof)])
+        right = c[-1, i + 1, :]
+        jumps.append(right - left)
+        scales.append(np.maximum(terms, np.abs(right)))
+    shape = (len(h) - 1, tr.ndof)
+    return np.array(jumps).reshape(shape), np.array(scales).reshape(shape)
+
+
 @given(piecewise_trajectories())
-def test_check_with_generous_limits_is_ok(tr: Trajectory) -> None:
-    # Limits at twice every dense peak (plus a margin) are never exceeded.
+def test_check_with_generous_limits_flags_only_the_jumps(tr: Trajectory) -> None:
+    # Limits at twice every dense peak (plus a margin) are never exceeded by a value;
+    # what remains are the unbounded derivatives above a jump between pieces (arbitrary
+    # pieces rarely meet): a step in derivative k is an impulse in k + 1 (issue 16).
     specs = {}
     for order, quantity in enumerate(QUANTITIES):
         dense = _dense(tr, order)
         margin = 2.0 * np.abs(dense).max(axis=0) + 1.0 + _piece_scale(tr, order)
         specs[quantity] = (-margin, margin) if quantity == "position" else margin
     report = tk.check(tr, Limits(**specs))
-    assert report.ok, str(report)
     assert set(report.peaks) == set(QUANTITIES)
+    assert all(np.isinf(v.value) and v.cause for v in report.violations), str(report)
+    flagged = {(v.quantity, v.joint) for v in report.violations}
+    clear = np.zeros(tr.ndof, bool)  # a clear jump below the current order
+    tiny = np.ones(tr.ndof, bool)  # every jump below it is rounding-sized
+    for order, quantity in enumerate(QUANTITIES):
+        for j in range(tr.ndof):
+            if clear[j]:
+                assert (quantity, j) in flagged, (quantity, j)
+            elif tiny[j]:
+                assert (quantity, j) not in flagged, (quantity, j)
+        jumps, scales = _jump_oracle(tr, order)
+        clear |= (np.abs(jumps) > 1e-6 * (1.0 + scales)).any(axis=0)
+        tiny &= (np.abs(jumps) <= 1e-12 * (1.0 + scales)).all(axis=0)
+    assert report.ok == (not flagged)
 
 
 def test_report_ratios_take_each_side_with_its_own_bound():
@@ -448,3 +479,107 @@ def test_report_ratios_equal_the_checked_trajectorys_peaks():
     np.testing.assert_allclose(report.ratios("velocity"), expected, rtol=1e-15)
     assert report.ratios("velocity")[1] == pytest.approx(0.25, rel=1e-12)
     np.testing.assert_allclose(report.ratios("acceleration"), [2 / 3, 2 / 3], rtol=1e-12)
+
+
+# ------------------------------------------- jumps between pieces (issue 16, item 1)
+
+
+def steps(values: list[list[float]]) -> Trajectory:
+    """Three pieces on [0, 1], [1, 2], [2, 3]: piece i is ``values[i]`` (highest power
+    first, one joint), so every jump at t = 1 and t = 2 is known exactly."""
+    c = np.array(values, float).T[:, :, np.newaxis]
+    return Trajectory([0.0, 1.0, 2.0, 3.0], c)
+
+
+def test_trapezoid_breaks_a_jerk_limit_at_each_switch():
+    # Its acceleration jumps from +2 to 0 (t = 0.5), from 0 to -2 (t = 1.0): the jerk is
+    # unbounded there; check() used to report the pieces' jerk of 0 as within jerk=1.
+    tr = tk.trapezoidal([0.0], [1.5], vmax=1.0, amax=2.0)
+    np.testing.assert_allclose(tr.breakpoints, [0.0, 0.5, 1.5, 2.0], rtol=1e-15)
+    report = tr.check(Limits(jerk=1.0))
+    assert not report.ok
+    (down,) = report.violations  # both jumps go down: only the lower side is passed
+    assert (down.quantity, down.joint, down.value, down.bound) == ("jerk", 0, -np.inf, -1.0)
+    assert down.time == pytest.approx(0.5, abs=1e-15)
+    assert down.cause == "acceleration jumps by -2 at t=0.5 s"
+    assert str(down) == (
+        "jerk of joint 1 is unbounded (-inf) at t=0.5 s, beyond the bound -1: "
+        "acceleration jumps by -2 at t=0.5 s"
+    )
+    assert report.peaks["jerk"][0][0] == -np.inf and report.peaks["jerk"][1][0] == 0.0
+    np.testing.assert_array_equal(report.ratios("jerk"), [np.inf])
+    # Velocity and acceleration stay within their (touched) limits.
+    assert tr.check(Limits(velocity=1.0, acceleration=2.0)).ok
+
+
+def test_topp_breaks_a_jerk_limit_its_timing_never_looked_at():
+    # topp bounds velocity and acceleration only; its acceleration jumps at grid points.
+    path = tk.cubic_spline([0.0, 1.0, 2.0, 3.0], [[0, 0], [1, 0.5], [0.3, 1.2], [1, 1]])
+    tr = tk.topp(path, Limits(velocity=1.0, acceleration=2.0), grid=50)
+    report = tr.check(Limits(velocity=1.0, acceleration=2.0, jerk=100.0))
+    jerk = [v for v in report.violations if v.quantity == "jerk"]
+    assert {v.joint for v in jerk} == {0, 1}
+    assert all(np.isinf(v.value) and v.cause.startswith("acceleration jumps by") for v in jerk)
+    assert all(tr.start_time < v.time < tr.end_time for v in jerk)
+    assert [v.quantity for v in report.violations] == ["jerk"] * len(jerk)
+    # Its largest jump is the report's discontinuity, ~1.4 rad/s^2 here.
+    largest = max(np.abs(tr.jumps(2)).max(axis=0))
+    listed = [d for d in report.discontinuities if d.quantity == "acceleration"]
+    assert max(abs(d.jump) for d in listed) == largest > 0.5
+
+
+def test_a_position_step_makes_every_higher_derivative_unbounded():
+    # Position: 0 on [0, 1], 1 on [1, 2], then 1 - (t - 2): a step up at t = 1 and a
+    # velocity step down (0 to -1) at t = 2.
+    tr = steps([[0.0, 0.0], [0.0, 1.0], [-1.0, 1.0]])
+    report = tr.check(Limits(velocity=5.0, acceleration=5.0, jerk=5.0))
+    found = {(v.quantity, v.value): (v.time, v.cause) for v in report.violations}
+    assert found == {
+        # The step's own impulse goes up; the velocity step is within the velocity limit.
+        ("velocity", np.inf): (1.0, "position jumps by 1 at t=1 s"),
+        # Above it, the derivative of an impulse goes both ways.
+        ("acceleration", np.inf): (1.0, "position jumps by 1 at t=1 s"),
+        ("acceleration", -np.inf): (1.0, "position jumps by 1 at t=1 s"),
+        ("jerk", np.inf): (1.0, "position jumps by 1 at t=1 s"),
+        ("jerk", -np.inf): (1.0, "position jumps by 1 at t=1 s"),
+    }
+    # Both sides of the step are inside a position range: that alone is fine, and the
+    # report still lists the step.
+    within = tr.check(Limits(position=(-1.0, 2.0)))
+    assert within.ok
+    assert [str(d) for d in within.discontinuities] == [
+        "position of joint 1 jumps by 1 at t=1 s",
+        "velocity of joint 1 jumps by -1 at t=2 s",
+    ]
+
+
+def test_a_velocity_step_is_an_acceleration_impulse_of_its_sign():
+    tr = steps([[1.0, 0.0], [1.0, 1.0], [-2.0, 2.0]])  # velocity 1, 1, -2: one step at t = 2
+    report = tr.check(Limits(velocity=3.0, acceleration=1.0))
+    (v,) = report.violations
+    assert (v.quantity, v.value, v.bound, v.time) == ("acceleration", -np.inf, -1.0, 2.0)
+    assert v.cause == "velocity jumps by -3 at t=2 s"
+    # The earliest breakpoint is reported when several jump.
+    zigzag = steps([[2.0, 0.0], [-1.0, 2.0], [1.0, 1.0]])  # up-down-up velocity
+    sides = {v.value: v.time for v in zigzag.check(Limits(acceleration=1.0)).violations}
+    assert sides == {-np.inf: 1.0, np.inf: 2.0}
+
+
+def test_rounding_sized_jumps_are_not_flagged_and_rtol_sets_the_threshold():
+    # A jump of 1e-12 relative to values of size 1 is rounding; one of 1e-6 is real.
+    for size, flagged in ((1e-12, False), (1e-6, True)):
+        tr = steps([[1.0, 0.0], [1.0 + size, 1.0], [1.0 + size, 2.0 + size]])
+        assert tr.check(Limits(acceleration=1.0)).ok is not flagged
+    tr = steps([[1.0, 0.0], [1.0 + 1e-6, 1.0], [1.0 + 1e-6, 2.0 + 1e-6]])
+    assert tr.check(Limits(acceleration=1.0), rtol=1e-5).ok  # a looser tolerance
+    # Relative to the size of the terms: a step of 1e-8 in values of 1e3 is rounding.
+    big = steps([[1e3, 0.0], [1e3 + 1e-8, 1e3], [1e3, 2e3]])
+    assert big.check(Limits(acceleration=1.0)).ok
+
+
+def test_check_of_a_continuous_trajectory_lists_no_discontinuity():
+    tr = tk.quintic(0.0, 1.0, duration=2.0)
+    report = tr.check(Limits(velocity=1.0, acceleration=2.0, jerk=10.0))
+    assert report.ok and report.discontinuities == ()
+    sc = tk.scurve([0.0], [2.0], vmax=1.0, amax=2.0, jmax=4.0)
+    assert sc.check(Limits(velocity=1.0, acceleration=2.0, jerk=4.0)).ok  # C2: jerk jumps only

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-import copy
 import math
 import os
 import tomllib
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -14,10 +14,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import trajkit as tk
+from scenario_mutations import mutated, places
 from trajkit import scenario
 from trajkit.cli import main
 from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.scenario import ScenarioError
+from trajkit.scenario.execute import _limits_text
 from trajkit.scenario.parse import from_data
 
 EXAMPLES = sorted((Path(__file__).parent.parent / "examples").glob("*.toml"))
@@ -210,36 +212,7 @@ VALUES = st.recursive(
     max_leaves=8,
 )  # fmt: skip
 BASE = tomllib.loads(ARM)
-
-
-def _places(data, prefix=()):
-    for key, value in data.items():
-        yield (*prefix, key)
-        if isinstance(value, dict):
-            yield from _places(value, (*prefix, key))
-        elif isinstance(value, list) and value and isinstance(value[0], dict):
-            yield from _places(value[0], (*prefix, key))  # the first of an array of tables
-
-
-PLACES = list(_places(BASE))
-
-
-def mutated(base: dict, place: tuple, value, extra: bool) -> dict:
-    """A copy of ``base`` with the key at ``place`` removed (None), replaced, or joined by
-    an unknown sibling (``extra``); arrays of tables are entered at their first table."""
-    data = copy.deepcopy(base)
-    target = data
-    for key in place[:-1]:
-        target = target[key] if isinstance(target, dict) else target[0]
-        if isinstance(target, list):
-            target = target[0]
-    if value is None:
-        target.pop(place[-1], None)
-    elif extra:
-        target[f"{place[-1]}_x"] = value
-    else:
-        target[place[-1]] = value
-    return data
+PLACES = list(places(BASE))
 
 
 def assert_only_the_documented_error(data: dict) -> None:
@@ -252,7 +225,7 @@ def assert_only_the_documented_error(data: dict) -> None:
 
 EXAMPLE_DATA = [tomllib.loads(path.read_text(encoding="utf-8")) for path in EXAMPLES]
 EXAMPLE_PLACES = [(index, place) for index, data in enumerate(EXAMPLE_DATA)
-                  for place in _places(data)]  # fmt: skip
+                  for place in places(data)]  # fmt: skip
 HUGE = st.integers() | st.integers(min_value=10**300, max_value=10**400) | st.floats()
 
 
@@ -314,7 +287,8 @@ def test_trajkit_run_errors_are_one_line(tmp_path, capsys, text, message):
 def test_trajkit_run_on_a_missing_file(tmp_path, capsys):
     status = main(["run", str(tmp_path / "nope.toml")])
     assert status == 2
-    assert "No such file" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.startswith("trajkit: error: ") and "no such file" in err.lower()
 
 
 def test_the_rrbot_example_bag_has_the_trajectory_and_a_joint_state_stream(tmp_path):
@@ -394,3 +368,103 @@ def test_report_and_bag_are_written_with_the_files_or_not_at_all(tmp_path, monke
     with pytest.raises(RuntimeError, match="disk full"):
         scenario.execute(scenario.parse(text), tmp_path, report=True, log=len)
     assert {p.name: p.stat().st_mtime_ns for p in tmp_path.iterdir()} == before
+
+
+# Issue 16: goto's S-curve, extreme numbers ---------------------------------------------
+GOTO_SCURVE = """
+name = "goto_scurve"
+[robot]
+builtin = "jackal"
+[task]
+kind = "goto"
+goal = [5.0, 3.0]
+heading = 1.5
+profile = "scurve"
+[limits]
+velocity = 0.5
+angular_velocity_deg = 30
+acceleration = 1.0
+angular_acceleration_deg = 60
+jerk = 2.0
+angular_jerk_deg = 120
+[outputs]
+plot = false
+"""
+
+
+def test_goto_with_an_scurve_profile_runs_within_its_jerk_limits(tmp_path):
+    outcome = scenario.execute(scenario.parse(GOTO_SCURVE), tmp_path, log=len)
+    assert outcome.report.ok
+    plan = outcome.plan
+    assert plan.info["profile"] == "scurve"
+    np.testing.assert_allclose(plan.end_pose, [5.0, 3.0, 1.5], atol=1e-9)
+    # Each phase's law is checked exactly on its pieces against the scenario's limits.
+    bounds = {"drive": (0.5, 1.0, 2.0), "turn": tuple(np.radians([30.0, 60.0, 120.0]))}
+    for name, segment in zip(plan.info["phases"], plan.segments, strict=True):
+        v, a, j = bounds["turn" if name.startswith("turn") else "drive"]
+        law = segment.law
+        assert law.check(tk.Limits(velocity=v, acceleration=a, jerk=j)).ok, name
+        # Time-optimal S-curve phases reach the jerk bound (within 1e-9 relative).
+        assert np.abs(law.jerk(law.breakpoints[:-1] + 1e-9)).max() == pytest.approx(j, rel=1e-9)
+    # The report's limits line names them too (it raised KeyError on angular_jerk).
+    text = _limits_text(scenario.parse(GOTO_SCURVE))
+    assert "jerk 2 m/s³" in text and "angular jerk 120 deg/s³" in text
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (("jerk = 2.0\n", ""), "limits.jerk: required by the scurve profile of a goto task"),
+        (("angular_jerk_deg = 120\n", ""), "limits.angular_jerk: required by the scurve"),
+        (('profile = "scurve"\n', ""), "limits.jerk: only used by the S-curve phases"),
+        (("jerk = 2.0\n", "jerk = -2.0\n"), "limits.jerk: expected a number > 0, got -2.0"),
+    ],
+)
+def test_goto_jerk_limits_are_checked_by_key(change, message):
+    with pytest.raises(ScenarioError, match=message.replace(".", r"\.")):
+        scenario.parse(GOTO_SCURVE.replace(*change))
+
+
+FIGURE8 = 'name = "eight"\n[robot]\nbuiltin = "jackal"\n[task]\nkind = "figure8"\n'
+ELLIPSE = (
+    (Path(__file__).parent.parent / "examples" / "seed002_two_link_ellipse.toml")
+    .read_text(encoding="utf-8")
+    .replace('animation = "gif"', 'animation = "none"\nplot = false')
+)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        # The curve is 1e12 times wider than high: it nears a stop at its turns (the old
+        # message blamed a stop of the curve at t=5 s).
+        (FIGURE8 + "width = 1e12\n", "task: width 1e+12 m and height 1 m: one may be at most"),
+        (FIGURE8 + "width = 1e200\n", "task: width 1e+200 m and height 1 m"),  # IndexError
+        (FIGURE8 + "width = 1e200\nheight = 1e200\n", "moves too fast or too slowly"),
+        (FIGURE8 + "offset = [1e308, 0]\n", "task.offset: expected at most 1e+09 m"),
+        (ELLIPSE.replace("duration = 5.0", "duration = 1e12"),  # once a 728 TiB allocation
+         "task: dt=0.01 s over 1e+12 s gives 1e+14 samples; at most 1e+06 are made"),
+        (ELLIPSE.replace("duration = 5.0", "duration = 1e308"),  # once an OverflowError
+         "task: duration must be at most 1e+12 s, got 1e+308 s"),
+        (ELLIPSE.replace("duration = 5.0", "duration = 1e6"),
+         "task: dt=0.01 s over 1e+06 s gives 1e+08 samples; at most 1e+06 are made"),
+        ('name = "p"\n[task]\nkind = "polynomial"\ntimes = [-1e308, 1.0]\n'  # LinAlgError
+         "[[task.segments]]\nconditions = [[0, 0, 0], [1, 0, 1]]\n",
+         "task.times: expected times within ±1e+12 s"),
+        (FIGURE8.replace('"figure8"', '"goto"') + "goal = [1e200, 1e200]\n",  # NaN speeds
+         "task: goal (1e+200, 1e+200) is 1.41e+200 m from start (0.0, 0.0); at most 1e+09 m"),
+        (FIGURE8.replace('"figure8"', '"twist"') + "v = 1e308\nomega = 0\nduration = 10\n",
+         "task: the distance v * duration is inf m"),  # inf poses, once a RuntimeWarning
+    ],
+)  # fmt: skip
+def test_extreme_numbers_are_one_line_errors_naming_the_key(tmp_path, capsys, text, message):
+    path = tmp_path / "extreme.toml"
+    path.write_text(text, encoding="utf-8")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning before the error
+        status = main(["run", str(path), "--out", str(tmp_path / "out")])
+    captured = capsys.readouterr()
+    assert status == 2 and captured.out == ""
+    assert captured.err.startswith("trajkit: error: ") and captured.err.count("\n") == 1
+    assert message in captured.err
+    assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given, reject, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
@@ -167,7 +167,7 @@ def _raises_invalid(match: str):
         ([0.0, np.inf], r"breakpoints must be finite"),
         ([[0.0, 1.0]], r"breakpoints must be a 1-D sequence"),
         ([0.0], r"breakpoints needs at least 2 times"),
-        (["a", "b"], r"breakpoints must be numeric"),
+        (["a", "b"], r"breakpoints\[0\] must be a real number, got 'a' \(a string\)"),
     ],
 )
 def test_invalid_breakpoints_are_refused_by_name(breakpoints: object, match: str) -> None:
@@ -189,7 +189,7 @@ def test_invalid_breakpoints_are_refused_by_name(breakpoints: object, match: str
         (np.ones((2, 1, 0)), r"coefficients must have at least one order and one joint"),
         (np.ones((2, 3, 1)), r"coefficients describe 3 pieces but breakpoints bound 1"),
         (np.ones((2, 3)), r"coefficients describe 3 pieces but breakpoints bound 1"),
-        ([["x"]], r"coefficients must be numeric"),
+        ([["x"]], r"coefficients\[0\]\[0\] must be a real number, got 'x' \(a string\)"),
     ],
 )
 def test_invalid_coefficients_are_refused_by_name(coefficients: object, match: str) -> None:
@@ -335,7 +335,8 @@ def test_evaluate_refuses_bad_times(t: object, match: str) -> None:
 @pytest.mark.parametrize("t", ["abc", ["a", "b"], [1 + 2j], object()])
 def test_evaluate_refuses_non_numeric_times(t: object) -> None:
     tr = cubic_rest_to_rest([0.0], [1.0], 1.0)
-    with _raises_invalid(r"^t must"):
+    # Element-wise refusals name the element: t[0] (the input validation's wording).
+    with _raises_invalid(r"^t(\[0\])? must"):
         tr.evaluate(t)  # type: ignore[arg-type]
 
 
@@ -965,3 +966,233 @@ def test_extrema_refuses_bad_orders(order: object) -> None:
     tr = cubic_rest_to_rest([0.0], [1.0], 1.0)
     with _raises_invalid(r"order must be a whole number >= 0"):
         tr.extrema(order)  # type: ignore[arg-type]
+
+
+# ---------------------------------------- jumps and continuity (issue 16, item 1)
+
+
+def _three_pieces(values: list[list[float]]) -> Trajectory:
+    """Pieces on [0, 1], [1, 2], [2, 3]; piece i has coefficients ``values[i]``."""
+    return Trajectory([0.0, 1.0, 2.0, 3.0], np.array(values, float).T[:, :, np.newaxis])
+
+
+def test_jumps_are_right_minus_left_at_each_inner_breakpoint() -> None:
+    # q = t on [0, 1]; 3 + 2 (t - 1) on [1, 2]; 5 + 2 (t - 2) on [2, 3]
+    tr = _three_pieces([[1.0, 0.0], [2.0, 3.0], [2.0, 5.0]])
+    np.testing.assert_array_equal(tr.jumps(0), [[2.0], [0.0]])  # 1 -> 3, then 5 -> 5
+    np.testing.assert_array_equal(tr.jumps(1), [[1.0], [0.0]])  # velocity 1 -> 2
+    np.testing.assert_array_equal(tr.jumps(2), [[0.0], [0.0]])
+    assert tr.continuity == -1
+    assert Trajectory([0.0, 1.0], [[1.0], [0.0]]).jumps(0).shape == (0, 1)
+
+
+def test_continuity_counts_the_continuous_derivatives() -> None:
+    assert _three_pieces([[1.0, 0.0], [2.0, 1.0], [2.0, 3.0]]).continuity == 0
+    assert tk.trapezoidal([0.0, 0.0], [1.0, -2.0], vmax=1.0, amax=2.0).continuity == 1
+    assert tk.scurve([0.0], [2.0], vmax=1.0, amax=2.0, jmax=4.0).continuity == 2
+    assert tk.quintic(0.0, 1.0, duration=1.0).continuity == np.inf  # one polynomial
+    # One polynomial cut into pieces has no jump in any derivative.
+    assert tk.cubic_spline([0.0, 1.0, 2.0], [0.0, 1.0, 2.0]).continuity == np.inf
+
+
+def test_jumps_tolerance_is_relative_to_the_terms() -> None:
+    # The left value 1e3 + 1e3 * 1 = 2e3 is a sum of terms of size 2e3: 1e-7 off is rounding.
+    tr = _three_pieces([[1e3, 0.0], [1e3, 1e3 + 1e-7], [1e3, 2e3 + 1e-7]])
+    assert not tr.jumps(0).any()
+    assert tr.jumps(0, rtol=1e-12)[0, 0] == pytest.approx(1e-7, rel=1e-6)
+    with _raises_invalid(r"rtol must be > 0, got 0"):
+        tr.jumps(0, rtol=0.0)
+    with _raises_invalid(r"order must be a whole number >= 0, got -1"):
+        tr.jumps(-1)
+
+
+# --------------------------------------------- exact end state (issue 16, item 6)
+
+STIFF = [  # rest-to-rest moves whose pieces end in rounding residues at T
+    lambda: tk.trapezoidal(0.0, 1.0, vmax=1.0, amax=1e6),
+    lambda: tk.trapezoidal([0.1, -0.7, 3.0], [1.3, 2.9, -4.1], vmax=1.3, amax=7e5),
+    lambda: tk.trapezoidal([0.0, 0.2], [1.0, 0.25], vmax=1.0, amax=1e6, sync=None),
+    lambda: tk.scurve([0.3, -1.1], [1.7, 0.4], vmax=1.0, amax=1e3, jmax=1e6),
+    lambda: tk.cubic(0.1, 1.3, vmax=1.0, amax=1e6),
+    lambda: tk.quintic([0.1, 2.0], [1.3, -0.7], vmax=1.0, amax=1e6),
+    lambda: tk.septic(0.1, 1.3, vmax=1.0, amax=1e6, jmax=1e9),
+    lambda: tk.batch.trapezoidal([[0.1, -0.7]], [[1.3, 2.9]], vmax=1.3, amax=7e5)[0],
+    lambda: tk.batch.scurve([[0.3, -1.1]], [[1.7, 0.4]], vmax=1.0, amax=1e3, jmax=1e6)[0],
+]
+
+
+@pytest.mark.parametrize("make", STIFF)
+def test_rest_to_rest_ends_exactly_at_rest_at_the_goal(make) -> None:
+    tr = make()
+    qf = np.asarray(tr.position(tr.end_time))
+    goal = {
+        0: [1.0], 1: [1.3, 2.9, -4.1], 2: [1.0, 0.25], 3: [1.7, 0.4], 4: [1.3],
+        5: [1.3, -0.7], 6: [1.3], 7: [1.3, 2.9], 8: [1.7, 0.4],
+    }[STIFF.index(make)]  # fmt: skip
+    np.testing.assert_array_equal(qf, goal)
+    after = [tr.end_time, tr.end_time + 1e-3, tr.end_time + 10.0]
+    for order in (0, 1):
+        expected = np.tile(goal if order == 0 else np.zeros(len(goal)), (3, 1))
+        np.testing.assert_array_equal(tr.evaluate(after, order), expected)
+    assert not np.signbit(tr.velocity(tr.end_time)).any()  # +0.0, no sign flip
+    np.testing.assert_array_equal(tr.end_state.velocity, 0.0)
+    samples = tr.sample(tr.duration / 7)
+    np.testing.assert_array_equal(samples.q[-1], goal)
+    np.testing.assert_array_equal(samples.qd[-1], 0.0)
+    # A derivative's end value is the parent's next-order end value.
+    np.testing.assert_array_equal(tr.derivative(1).position(tr.end_time), 0.0)
+
+
+def test_s_curves_and_quintics_also_end_at_zero_acceleration() -> None:
+    for tr in (
+        tk.scurve([0.3, -1.1], [1.7, 0.4], vmax=1.0, amax=1e3, jmax=1e6),
+        tk.quintic([0.1, 2.0], [1.3, -0.7], vmax=1.0, amax=1e6),
+    ):
+        np.testing.assert_array_equal(tr.acceleration([tr.end_time, tr.end_time + 1]), 0.0)
+
+
+# Subnormal inputs are read as 0 by the input validation: not drawn here.
+_NORMAL = {"allow_subnormal": False}
+
+
+@given(
+    q0=hnp.arrays(np.float64, 2, elements=st.floats(-10, 10, **_NORMAL)),
+    distance=hnp.arrays(np.float64, 2, elements=st.floats(-10, 10, **_NORMAL)),
+    vf=hnp.arrays(np.float64, 2, elements=st.floats(-0.9, 0.9, **_NORMAL)),
+    amax=st.floats(1e-2, 1e7),
+    planner=st.sampled_from(["trapezoidal", "scurve"]),
+)
+def test_property_limit_driven_plans_end_exactly_in_their_boundary_state(
+    q0, distance, vf, amax, planner
+) -> None:
+    qf = q0 + distance
+    if planner == "trapezoidal":
+        tr = tk.trapezoidal(q0, qf, vmax=1.0, amax=amax, vf=vf, allow_overshoot=True)
+    else:
+        tr = tk.scurve(q0, qf, vmax=1.0, amax=amax, jmax=amax * 10.0, vf=vf)
+    T = tr.end_time
+    pieces = Trajectory(tr.breakpoints, tr.coefficients)  # the polynomial alone
+    # Rounding of the phase sums stays far below 1e-10 here (values of size <= 20).
+    missed = np.abs(pieces.position(T) - qf) > 1e-10 * (1.0 + np.abs(qf))
+    if missed.any() or np.abs(pieces.velocity(T) - vf).max() > 1e-10:
+        # The phases miss qf or vf: tests/profiles/test_trapezoidal.py's BUG_SLACK (an
+        # engine defect, pinned there; beyond 1e-9 relative the polynomial's end is kept).
+        reject()
+    np.testing.assert_array_equal(tr.position(T), qf)
+    np.testing.assert_array_equal(tr.velocity([T, T + 1.0]), [vf, vf])
+    if planner == "scurve":
+        np.testing.assert_array_equal(tr.acceleration(T), 0.0)
+
+
+def test_the_exact_start_and_end_states_follow_derivative_time_scaling_and_then() -> None:
+    move = tk.quintic([0.1, 2.0], [1.3, -0.7], vmax=1.0, amax=1e6, v0=[0.0, 0.5])
+    T = move.end_time
+    np.testing.assert_array_equal(move.velocity(0.0), [0.0, 0.5])
+    np.testing.assert_array_equal(move.velocity(-1.0), [0.0, 0.5])
+    slow = move.time_scaled(4.0)
+    np.testing.assert_array_equal(slow.position(slow.end_time), [1.3, -0.7])
+    np.testing.assert_array_equal(slow.velocity(slow.end_time), [0.0, 0.0])
+    np.testing.assert_array_equal(slow.velocity(0.0), [0.0, 0.125])  # 0.5 / 4
+    back = tk.quintic([1.3, -0.7], [0.2, 0.1], vmax=1.0, amax=1e6)
+    both = move.then(back)
+    np.testing.assert_array_equal(both.position(both.end_time), [0.2, 0.1])
+    np.testing.assert_array_equal(both.velocity(0.0), [0.0, 0.5])
+    np.testing.assert_array_equal(both.velocity(both.end_time + 1.0), [0.0, 0.0])
+    np.testing.assert_array_equal(move.derivative(2).position(T), [0.0, 0.0])
+    # Beyond the rows it was given, the polynomial's own value.
+    assert move.derivative(3).position(T)[0] == move.jerk(T)[0] != 0.0
+
+
+def test_exact_boundary_states_given_to_the_constructor() -> None:
+    c = [[[1.0]], [[0.0]]]  # q = t on [0, 1]
+    tr = Trajectory([0.0, 1.0], c, end=[[1.0 + 1e-12], [np.nan]])
+    assert tr.position(1.0)[0] == 1.0 + 1e-12  # the given value
+    assert tr.velocity(1.0)[0] == 1.0  # NaN: the polynomial's
+    assert tr.position(0.5)[0] == 0.5
+    assert Trajectory([0.0, 1.0], c, start=[0.0]).position(0.0)[0] == 0.0
+    with _raises_invalid(
+        r"end\[0\] \(the position\) of joint 1 is 1.1 but the pieces give 1 at end_time"
+    ):
+        Trajectory([0.0, 1.0], c, end=[1.1])
+    with _raises_invalid(r"end must have shape \(r, ndof\) = \(r, 1\).*got shape \(2, 2\)"):
+        Trajectory([0.0, 1.0], c, end=[[1.0, 1.0], [1.0, 1.0]])
+    with _raises_invalid(r"start must be finite or NaN"):
+        Trajectory([0.0, 1.0], c, start=[[0.0], [np.inf]])
+
+
+# ------------------------------- every planner's continuity claim (issue 16, item 1)
+
+
+def _taskspace_plan() -> Trajectory:
+    from trajkit.kinematics.robots import Planar2R
+    from trajkit.taskspace import Ellipse, timed, to_joint_space
+
+    arm = Planar2R(1.0, 0.8)
+    motion = timed(Ellipse([0.0, 1.2, 0.0], 0.4, 0.0), "linear", duration=2.0)
+    return to_joint_space(arm, motion, dt=0.05).trajectory
+
+
+_VIA = ([0.0, 1.0, 2.5, 4.0], [[0.0, 0.0], [1.0, 0.5], [0.3, 1.2], [1.0, 1.0]])
+_LIMITS = tk.Limits(velocity=1.0, acceleration=2.0)
+PLANNERS = {  # generic inputs: no derivative is continuous by accident
+    "cubic": (lambda: tk.cubic(0.0, 1.0, duration=1.0), np.inf),
+    "quintic": (lambda: tk.quintic([0.0, 1.0], [2.0, -1.0], vmax=1.0), np.inf),
+    "septic": (lambda: tk.septic(0.0, 1.0, duration=2.0), np.inf),
+    "polynomial": (
+        lambda: tk.polynomial(
+            [[(0, 0, 0.0), (0, 1, 0.0), (1, 0, 1.0)], [(2, 0, 0.5), (2, 1, 0.0)]],
+            segments=[0.0, 1.0, 2.0],
+            continuity=[(0, 1)],
+            degrees=[2, 3],
+        ),
+        1,
+    ),
+    "cubic_via": (lambda: tk.cubic_via(*_VIA), 1),
+    "quintic_via": (lambda: tk.quintic_via(*_VIA), 2),
+    "cubic_spline": (lambda: tk.cubic_spline(*_VIA), 2),
+    "trapezoidal": (lambda: tk.trapezoidal([0.0, 0.0], [1.0, -2.0], vmax=1.0, amax=2.0), 1),
+    "trapezoidal blend rule": (
+        lambda: tk.trapezoidal([0.0], [1.0], vmax=2.0, duration=2.0, blend_ratio=0.25),
+        1,
+    ),
+    "scurve": (lambda: tk.scurve([0.0, 0.0], [1.0, -2.0], vmax=1.0, amax=2.0, jmax=5.0), 2),
+    "blended": (lambda: tk.blended(_VIA[1], vmax=1.0, amax=2.0), 1),
+    "blended jerk": (lambda: tk.blended(_VIA[1], vmax=1.0, amax=2.0, jmax=10.0), 2),
+    "batch trapezoidal": (
+        lambda: tk.batch.trapezoidal([[0.0, 0.0]], [[1.0, -2.0]], vmax=1.0, amax=2.0)[0],
+        1,
+    ),
+    "batch scurve": (
+        lambda: tk.batch.scurve([[0.0, 0.0]], [[1.0, -2.0]], vmax=1.0, amax=2.0, jmax=5.0)[0],
+        2,
+    ),
+    "topp": (lambda: tk.topp(tk.cubic_spline(*_VIA), _LIMITS, grid=60), 1),
+    "topp jerk": (
+        lambda: tk.topp(tk.cubic_spline(*_VIA), tk.Limits(velocity=1, acceleration=2, jerk=10)),
+        2,
+    ),
+    "to_joint_space": (_taskspace_plan, 2),
+}
+
+
+@pytest.mark.parametrize("name", PLANNERS)
+def test_every_planner_claims_the_continuity_its_pieces_have(name: str) -> None:
+    make, expected = PLANNERS[name]
+    tr = make()
+    assert tr.info["continuity"] == expected
+    assert tr.continuity == expected  # measured from the coefficients
+
+
+def test_batch_info_claims_the_continuity_of_its_problems() -> None:
+    plans = tk.batch.trapezoidal([[0.0], [1.0]], [[1.0], [3.0]], vmax=1.0, amax=2.0)
+    assert plans.info["continuity"] == 1 == plans[1].continuity
+    curves = tk.batch.scurve([[0.0], [1.0]], [[1.0], [3.0]], vmax=1.0, amax=2.0, jmax=5.0)
+    assert curves.info["continuity"] == 2 == curves[1].continuity
+
+
+@given(piecewise_trajectories())
+def test_continuity_is_the_first_order_whose_jumps_do_not_vanish(tr: Trajectory) -> None:
+    measured = tr.continuity
+    orders = range(tr.degree + 1) if measured == np.inf else range(int(measured) + 2)
+    for order in orders:
+        assert tr.jumps(order).any() == (order == measured + 1), order

@@ -1,11 +1,33 @@
 """Argument checks shared by every public function.
 
+Every user-facing number or array goes through :func:`as_float_array` (directly
+or via :func:`finite_array` and the helpers built on it), the one place that
+turns user input into float64. It refuses, naming the argument:
+
+* ``None`` (a required argument left out, or a placeholder passed on);
+* strings and bytes, even ``"1.5"``: numpy would parse them, a user passing
+  text has a bug elsewhere;
+* booleans (``True``, numpy bool arrays): numpy reads them as 1.0 and 0.0;
+* complex numbers, even with a zero imaginary part: the conversion would drop
+  the imaginary part silently;
+* ragged sequences (``[[1], [1, 2]]``), object arrays holding non-numbers, and
+  non-numeric dtypes (dates, records);
+* integers beyond the float64 range.
+
+Subnormal values (``0 < |x| < 2.2e-308``) are flushed to 0, with the sign kept
+only in ``-0.0``. No quantity in SI units is that small, and left in they make
+the planners' linear algebra fail (a boundary velocity of 1e-320 rad/s used to
+end in a ``LinAlgError``); the flushed value differs from the given one by
+less than 2.3e-308 in absolute terms, so every result stays right.
+
 Each helper names the argument in its error message, so a user learns which
 value was wrong and what rule it broke.
 """
 
 from __future__ import annotations
 
+import numbers
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -15,21 +37,139 @@ from trajkit.errors import InvalidInputError
 
 FloatArray = NDArray[np.float64]
 
+_TINY = np.finfo(np.float64).tiny  # smallest normal float64, 2.2e-308
+_NUMERIC_KINDS = "iuf"  # signed and unsigned integers, floats
+
 
 def _describe(value: Any) -> str:
     text = np.array2string(np.asarray(value), precision=6, threshold=8)
     return text if len(text) < 80 else text[:77] + "..."
 
 
+def _short_repr(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) < 80 else text[:77] + "..."
+
+
+def _kind_problem(value: Any) -> str | None:
+    """Why one leaf of a user's input is not a real number, or None when it is."""
+    if value is None:
+        return "None"
+    if isinstance(value, str | bytes):
+        return "a string"
+    if isinstance(value, bool | np.bool_):
+        return "a bool"
+    if isinstance(value, np.ndarray | np.generic):
+        return _dtype_problem(value.dtype)
+    if isinstance(value, numbers.Real):
+        return None
+    if isinstance(value, numbers.Complex):
+        return "complex"
+    if isinstance(value, Mapping | set | frozenset):
+        return f"a {type(value).__name__}"
+    return None  # anything else: numpy decides below (e.g. objects with __array__)
+
+
+def _dtype_problem(dtype: np.dtype[Any]) -> str | None:
+    if dtype.kind in _NUMERIC_KINDS or dtype.kind == "O":
+        return None
+    return {
+        "b": "a bool array",
+        "c": "complex",
+        "U": "a string",
+        "S": "a string",
+    }.get(dtype.kind, f"of non-numeric dtype {dtype}")
+
+
+def _refuse(name: str, value: Any, problem: str, where: str = "") -> InvalidInputError:
+    if problem == "None":
+        if not where:
+            return InvalidInputError(f"{name} is required: give a number or numbers, got None")
+        return InvalidInputError(f"{name}{where} must be a real number, got None")
+    return InvalidInputError(
+        f"{name}{where} must be a real number, got {_short_repr(value)} ({problem})"
+    )
+
+
+def _check_leaves(name: str, value: Any, index: tuple[int, ...] = ()) -> None:
+    """Refuse the first leaf of nested lists/tuples that is not a real number.
+
+    numpy would read ``[1, True]`` as ``[1, 1]`` and ``[1, None]`` as an object
+    array, so the leaves are checked one by one.
+    """
+    if isinstance(value, list | tuple):
+        for i, item in enumerate(value):
+            _check_leaves(name, item, (*index, i))
+        return
+    if isinstance(value, np.ndarray) and value.dtype.kind == "O":
+        for i, item in enumerate(value.flat):
+            problem = _kind_problem(item)
+            if problem is not None:
+                where = "".join(f"[{k}]" for k in (*index, *np.unravel_index(i, value.shape)))
+                raise _refuse(name, item, problem, where)
+        return
+    problem = _kind_problem(value)
+    if problem is not None:
+        raise _refuse(name, value, problem, "".join(f"[{k}]" for k in index))
+
+
+def as_float_array(name: str, value: Any) -> FloatArray:
+    """Return ``value`` as a float64 array; NaN and inf pass (see :func:`finite_array`).
+
+    Parameters
+    ----------
+    name : str
+        The argument's user-facing name, quoted in every message.
+    value : array_like
+        A real number or a rectangular (nested) sequence or array of real numbers.
+
+    Returns
+    -------
+    ndarray of float64
+        May share memory with ``value``: callers that keep it copy it.
+
+    Raises
+    ------
+    InvalidInputError
+        ``value`` is None, text, bool, complex, ragged, of a non-numeric dtype, or
+        an integer beyond the float64 range (see the module docstring).
+    """
+    if isinstance(value, np.ndarray) and value.dtype.kind in "fiu":
+        array = np.asarray(value, dtype=np.float64)  # the common case, kept fast
+    else:
+        _check_leaves(name, value)
+        try:
+            with np.errstate(over="ignore"):
+                array = np.asarray(value, dtype=np.float64)
+        except OverflowError as exc:
+            raise InvalidInputError(
+                f"{name} must be within the float64 range (|x| <= 1.8e308), "
+                f"got {_short_repr(value)}"
+            ) from exc
+        except ValueError as exc:
+            if isinstance(value, list | tuple):
+                raise InvalidInputError(
+                    f"{name} must be a rectangular array of numbers (every row the same "
+                    f"length), got the ragged sequence {_short_repr(value)}"
+                ) from exc
+            raise InvalidInputError(f"{name} must be numeric, got {_short_repr(value)}") from exc
+        except TypeError as exc:
+            raise InvalidInputError(f"{name} must be numeric, got {_short_repr(value)}") from exc
+    if array.size and array.dtype == np.float64:
+        subnormal = (np.abs(array) < _TINY) & (array != 0.0)
+        if subnormal.any():
+            array = np.where(subnormal, np.copysign(0.0, array), array)
+    return array
+
+
 def finite_array(name: str, value: ArrayLike, *, unit: str = "") -> FloatArray:
     """Return ``value`` as a float64 array, refusing NaN, inf and non-numbers.
 
-    The result may share memory with ``value``: callers that keep it copy it.
+    Conversion rules (what is refused, subnormals flushed to 0) are those of
+    :func:`as_float_array`. The result may share memory with ``value``: callers
+    that keep it copy it.
     """
-    try:
-        array = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidInputError(f"{name} must be numeric, got {value!r}") from exc
+    array = as_float_array(name, value)
     if not np.all(np.isfinite(array)):
         unit_text = f" {unit}" if unit else ""
         raise InvalidInputError(f"{name} must be finite, got {_describe(array)}{unit_text}")
@@ -49,7 +189,9 @@ def positive_scalar(name: str, value: Any, *, unit: str = "") -> float:
     number = finite_scalar(name, value, unit=unit)
     if number <= 0.0:
         unit_text = f" {unit}" if unit else ""
-        raise InvalidInputError(f"{name} must be > 0, got {number:g}{unit_text}")
+        given = float(np.asarray(value, dtype=np.float64))  # safe: the conversion passed
+        note = " (subnormal, read as 0)" if given != number else ""
+        raise InvalidInputError(f"{name} must be > 0, got {given:g}{unit_text}{note}")
     return number
 
 
@@ -105,7 +247,7 @@ def count_dof(**values: ArrayLike | None) -> int:
     for name, value in values.items():
         if value is None:
             continue
-        shape = np.shape(value)
+        shape = as_float_array(name, value).shape
         if len(shape) > 1:
             raise InvalidInputError(
                 f"{name} must be a number or a 1-D sequence (one per joint), got shape {shape}"
@@ -139,3 +281,15 @@ def increasing_times(name: str, value: ArrayLike, *, minimum_count: int = 2) -> 
             f"{name}[{i + 1}]={times[i + 1]:g} s are {rule}"
         )
     return times
+
+
+def choice(name: str, value: object, options: tuple[str | None, ...]) -> Any:
+    """Return ``value`` when it is one of ``options`` (strings, or None).
+
+    ``value in options`` would compare an array elementwise (``sync=np.array([])``
+    ended in numpy's "truth value is ambiguous"), so the type is checked first.
+    """
+    if (value is None and None in options) or (isinstance(value, str) and value in options):
+        return value
+    listed = ", ".join(repr(option) for option in options)
+    raise InvalidInputError(f"{name} must be one of {listed}, got {_short_repr(value)}")

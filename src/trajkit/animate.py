@@ -14,7 +14,6 @@ import contextlib
 import os
 import shutil
 import sys
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
@@ -24,11 +23,13 @@ from matplotlib.figure import Figure
 
 from trajkit._validation import FloatArray, positive_scalar
 from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.io.atomic import _forget, _fsync_file, _mode_for, final_name, temporary_path
 
 if TYPE_CHECKING:
     from trajkit.kinematics.chain import SerialChain
     from trajkit.mobile.simulate import SimulationLog
     from trajkit.mobile.trajectory import MobileTrajectory
+    from trajkit.taskspace.joint_space import JointSpacePlan
     from trajkit.trajectory import Trajectory
 
 __all__ = ["AnimationUnavailable", "arm", "mobile"]
@@ -77,6 +78,13 @@ class _Progress:
                 self.stream.write("\n")
             self.stream.flush()
 
+    def abandon(self) -> None:
+        """End a bar cut short, so that the next message starts on a line of its own."""
+        if self.stream is not None and 0 <= self.shown < 100:
+            self.stream.write("\n")
+            self.stream.flush()
+            self.shown = 100
+
 
 def _writer(path: Path, fps: float) -> Any:
     from matplotlib import animation
@@ -112,23 +120,68 @@ def _save(
     stream = progress if not isinstance(progress, bool) else sys.stderr if progress else None
     if count < PROGRESS_FROM or (progress is True and not sys.stderr.isatty()):
         stream = None
-    bar = _Progress(count, f"animating {path.name}", stream)
+    # A path staged by trajkit.io.atomic is a temporary: the bar shows the name the user chose.
+    bar = _Progress(count, f"animating {final_name(path)}", stream)
     movie = animation.FuncAnimation(figure, draw, frames=count, blit=False, repeat=False)
-    handle, scratch = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=path.suffix)
-    os.close(handle)
+    scratch = temporary_path(path)
     try:
         movie.save(scratch, writer=writer, progress_callback=bar)
+        _fsync_file(scratch)
+        # mkstemp made the file 0600; the animation gets the mode open() would give it.
+        os.chmod(scratch, _mode_for(path))
         os.replace(scratch, path)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(scratch)
+        bar.abandon()
+        interrupt = _interrupt_behind(exc)
+        if interrupt is not None and interrupt is not exc:
+            # Ctrl-C before the first frame makes the GIF writer fail on closing (no
+            # frames: IndexError); the interrupt, not that consequence, is what happened.
+            raise interrupt.with_traceback(None) from None
         raise
+    finally:
+        _forget(scratch)
     return path
+
+
+def _interrupt_behind(exc: BaseException) -> KeyboardInterrupt | None:
+    """The KeyboardInterrupt that ``exc`` was raised while handling, if any."""
+    seen: set[int] = set()
+    current: BaseException | None = exc
+    while current is not None and id(current) not in seen:
+        if isinstance(current, KeyboardInterrupt):
+            return current
+        seen.add(id(current))
+        current = current.__context__
+    return None
+
+
+def _joint_trajectory(robot: object, trajectory: object) -> Trajectory:
+    """The joint trajectory to draw: a Trajectory, or the one a JointSpacePlan holds."""
+    from trajkit.kinematics.chain import SerialChain
+    from trajkit.taskspace.joint_space import JointSpacePlan
+    from trajkit.trajectory import Trajectory
+
+    if not isinstance(robot, SerialChain):
+        raise InvalidInputError(f"robot must be a trajkit SerialChain, got {type(robot).__name__}")
+    if isinstance(trajectory, JointSpacePlan):
+        trajectory = trajectory.trajectory  # what taskspace.to_joint_space plans
+    if not isinstance(trajectory, Trajectory):
+        raise InvalidInputError(
+            "trajectory must be a trajkit Trajectory or a taskspace JointSpacePlan, got "
+            f"{type(trajectory).__name__}"
+        )
+    if trajectory.ndof != robot.ndof:
+        raise InvalidInputError(
+            f"trajectory has {trajectory.ndof} joints but the robot has {robot.ndof}"
+        )
+    return trajectory
 
 
 def arm(
     robot: SerialChain,
-    trajectory: Trajectory,
+    trajectory: Trajectory | JointSpacePlan,
     path: str | os.PathLike[str],
     *,
     view: str = "3d",
@@ -143,8 +196,9 @@ def arm(
     Parameters
     ----------
     robot : SerialChain
-    trajectory : Trajectory
-        Joint trajectory of ``robot``.
+    trajectory : Trajectory or JointSpacePlan
+        Joint trajectory of ``robot``, or the plan of
+        :func:`trajkit.taskspace.to_joint_space` (its ``trajectory`` is drawn).
     path : path-like
         ``.gif`` (Pillow) or ``.mp4`` (needs ffmpeg).
     view : {"3d", "xy", "xz", "yz"}
@@ -167,7 +221,8 @@ def arm(
     """
     from trajkit.kinematics.drawing import link_positions
 
-    if view not in ("3d", *_VIEWS):
+    trajectory = _joint_trajectory(robot, trajectory)
+    if not isinstance(view, str) or view not in ("3d", *_VIEWS):
         raise InvalidInputError(f"view must be '3d', 'xy', 'xz' or 'yz', got {view!r}")
     target = Path(path)
     _writer(target, fps if isinstance(fps, (int, float)) else 25.0)  # the format, before any work

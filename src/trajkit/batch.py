@@ -187,6 +187,9 @@ class BatchTrajectory:
             plan.durations[i],
             plan.accelerations[i],
             plan.jerks[i],
+            None if plan.end_position is None else plan.end_position[i],
+            None if plan.end_velocity is None else plan.end_velocity[i],
+            None if plan.end_acceleration is None else plan.end_acceleration[i],
         )
         info = {key: _item(value, i) for key, value in self.info.items()}
         return plan_to_trajectory(single, float(self.durations[i]), info)
@@ -363,12 +366,13 @@ def trapezoidal(
     def plan() -> PhasePlan:
         return PhasePlan(
             np.array(start), np.array(start_v), solution.times, solution.accelerations,
-            np.zeros_like(solution.times),
+            np.zeros_like(solution.times), np.array(end), np.array(end_v),
         )  # fmt: skip
 
     def info() -> dict[str, Any]:
         return {
             "planner": "trapezoidal",
+            "continuity": 1,
             "sync": sync,
             "dt": step,
             "minimum_durations": solution.own,
@@ -435,12 +439,14 @@ def scurve(
     def plan() -> PhasePlan:
         return PhasePlan(
             np.array(start), np.array(np.broadcast_to(start_v, shape)), solution.durations,
-            solution.accelerations, solution.jerks,
+            solution.accelerations, solution.jerks, np.array(end),
+            np.array(np.broadcast_to(end_v, shape)), np.zeros(shape),
         )  # fmt: skip
 
     def info() -> dict[str, Any]:
         return {
             "planner": "scurve",
+            "continuity": 2,
             "sync": sync,
             "dt": step,
             "minimum_durations": solution.own,

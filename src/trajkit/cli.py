@@ -7,7 +7,12 @@ rendered in memory first and then written atomically, so a failed run leaves non
 from __future__ import annotations
 
 import argparse
+import contextlib
+import errno
+import os
+import re
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -150,30 +155,189 @@ def _build_parser() -> _Parser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line; returns the exit status.
+
+    Statuses: 0 done; 1 (``run``, ``mobile``) the outputs were written but the plan
+    breaks a limit; 2 an error, reported on one line of stderr; 130 interrupted
+    (Ctrl-C); 141 standard output was closed early (``trajkit plan ... | head``),
+    as a program killed by SIGPIPE reports it, and without a message.
+    """
     parser = _build_parser()
-    try:
-        args = parser.parse_args(argv)
-        if args.command is None:
-            parser.print_help()
+    args: argparse.Namespace | None = None
+    made: list[Path] = []
+    # Warnings (numpy's overflow notes, say) are held back: on an error only the
+    # one-line message is printed; on success each distinct warning is shown once.
+    with warnings.catch_warnings(record=True) as caught:
+        try:
+            args = parser.parse_args(argv)
+            if args.command is None:
+                parser.print_help()
+                return EXIT_USAGE
+            handlers: dict[str, Callable[[argparse.Namespace], int]] = {
+                "plan": _plan,
+                "mobile": run_mobile,
+                "run": _run_scenario,
+                "sweep": run_sweep,
+                "demo": _demo,
+            }
+            handler = handlers[args.command]
+            made = _missing_output_folders(args)
+            status = handler(args)
+            sys.stdout.flush()  # a closed pipe shows here, not at exit as a traceback
+        except BrokenPipeError:
+            _silence_stdout()
+            return EXIT_BROKEN_PIPE
+        except (CommandError, TrajkitError, OSError) as exc:
+            _remove_empty(made)
+            message = _message(exc, args)
+            print(f"trajkit: error: {message}", file=sys.stderr)
             return EXIT_USAGE
-        handlers: dict[str, Callable[[argparse.Namespace], int]] = {
-            "plan": _plan,
-            "mobile": run_mobile,
-            "run": _run_scenario,
-            "sweep": run_sweep,
-            "demo": _demo,
-        }
-        handler = handlers[args.command]
-        return handler(args)
-    except (CommandError, TrajkitError, OSError) as exc:
-        message = str(exc).replace("\n", " ")
-        print(f"trajkit: error: {message}", file=sys.stderr)
-        return EXIT_USAGE
-    except KeyboardInterrupt:
-        # Outputs are staged: an interrupted run leaves none of them.
-        print("trajkit: interrupted; nothing was written", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        except KeyboardInterrupt:
+            _remove_empty(made)
+            # Outputs are staged: an interrupted run leaves none of them.
+            print("trajkit: interrupted; nothing was written", file=sys.stderr)
+            return EXIT_INTERRUPTED
+        except BaseException:
+            _remove_empty(made)
+            raise
+    _show_once(caught)
+    return status
+
+
+EXIT_BROKEN_PIPE = 128 + 13  # 128 + SIGPIPE: what a shell reports for `yes | head -1`
+
+# errno -> the reason in plain words ("[Errno 28] No space left on device" -> these)
+_REASONS: dict[int, str] = {
+    errno.ENOSPC: "no space left on device",
+    errno.EIO: "input/output error (the disk or the network share failed)",
+    errno.EACCES: "permission denied",
+    errno.EPERM: "permission denied",
+    errno.EROFS: "the file system is read-only",
+    errno.ENOENT: "no such file or folder",
+    errno.EEXIST: "it already exists",
+    errno.ENOTDIR: "a part of the path is a file, not a folder",
+    errno.EISDIR: "it is a folder",
+    errno.ENAMETOOLONG: "the name is too long",
+    errno.EFBIG: "the file is too large",
+    errno.ELOOP: "too many symbolic links",
+}
+if hasattr(errno, "EDQUOT"):
+    _REASONS[errno.EDQUOT] = "disk quota exceeded"
+
+
+def _message(exc: BaseException, args: argparse.Namespace | None) -> str:
+    """The one-line text of an error, in the user's words and units."""
+    if isinstance(exc, OSError):
+        message = _os_message(exc, args)
+    else:
+        message = str(exc)
+    message = " ".join(message.split())
+    if args is not None and getattr(args, "deg", False) and isinstance(exc, TrajkitError):
+        message = _in_degrees(message, args)
+    return message
+
+
+def _os_message(exc: OSError, args: argparse.Namespace | None) -> str:
+    """``cannot write FILE: no space left on device``, with no ``[Errno N]``."""
+    if exc.errno is None or exc.strerror is None:
+        return str(exc)  # trajkit's own message, already in words
+    reason = _REASONS.get(exc.errno) or exc.strerror[:1].lower() + exc.strerror[1:]
+    if exc.filename is None:
+        return reason
+    name = os.fsdecode(exc.filename)
+    inputs = {
+        os.fspath(getattr(args, flag))
+        for flag in ("scenario", "sweep")
+        if args is not None and isinstance(getattr(args, flag, None), Path)
+    }
+    verb = "read" if name in inputs else "write"
+    return f"cannot {verb} {name}: {reason}"
+
+
+# A number (or a bracketed list of them) followed by an angular SI unit.
+_NUMBER = r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?|[-+]?inf|nan"
+_ANGULAR = re.compile(
+    rf"(?P<value>\[[^\]]*\]|{_NUMBER})(?P<space>\s*)(?P<unit>rad(?:/s(?:\^[23]|²|³)?)?)"
+    r"(?![A-Za-z])"
+)
+_ANGLE_FLAGS = ("q0", "qf", "v0", "vf", "a0", "af", "vmax", "amax", "jmax")
+
+
+def _in_degrees(message: str, args: argparse.Namespace) -> str:
+    """Quote a message's radian quantities in degrees, as the user gave them with ``--deg``.
+
+    A converted value that matches, to the 6 digits messages carry, a number the
+    user typed is written exactly as typed (10 rather than 9.99999).
+    """
+    typed = [
+        value
+        for flag in _ANGLE_FLAGS
+        for group in getattr(args, flag, None) or []
+        for value in group
+    ]
+
+    def degrees(text: str) -> str:
+        value = float(text) * 180.0 / np.pi
+        if not np.isfinite(value):
+            return text
+        for number in typed:
+            if abs(number - value) <= 1e-5 * abs(number):
+                return f"{number:.15g}"
+        return f"{value:.6g}"
+
+    def convert(match: re.Match[str]) -> str:
+        value = match.group("value")
+        if value.startswith("["):
+            value = re.sub(_NUMBER, lambda m: degrees(m.group(0)), value)
+        else:
+            value = degrees(value)
+        return value + match.group("space") + "deg" + match.group("unit")[3:]
+
+    return _ANGULAR.sub(convert, message)
+
+
+def _missing_output_folders(args: argparse.Namespace) -> list[Path]:
+    """The output folders of this command that do not exist yet, deepest first.
+
+    Those the command creates are removed again if it fails before writing into them.
+    """
+    if args.command not in ("plan", "mobile", "run", "demo"):
+        return []
+    missing: list[Path] = []
+    for flag in ("out", "frames"):
+        folder = getattr(args, flag, None)
+        if not isinstance(folder, Path):
+            continue
+        path = folder.absolute()
+        while not path.exists() and path != path.parent:
+            missing.append(path)
+            path = path.parent
+    return sorted(set(missing), key=lambda p: len(p.parts), reverse=True)
+
+
+def _remove_empty(folders: list[Path]) -> None:
+    for folder in folders:  # deepest first, so that parents can go too
+        with contextlib.suppress(OSError):
+            folder.rmdir()  # only if still empty
+
+
+def _silence_stdout() -> None:
+    """Point stdout at the null device, so that the exit flush cannot fail again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):  # stdout is no real file (a test's)
+        pass
+
+
+def _show_once(caught: list[warnings.WarningMessage]) -> None:
+    seen: set[tuple[type[Warning], str]] = set()
+    for item in caught:
+        key = (item.category, str(item.message))
+        if key not in seen:
+            seen.add(key)
+            warnings.showwarning(item.message, item.category, item.filename, item.lineno)
 
 
 def _plan(args: argparse.Namespace) -> int:
@@ -285,6 +449,16 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
 def _run_scenario(args: argparse.Namespace) -> int:
     from trajkit.scenario import execute, load
 
+    _check_out_folder(args.out)
+    if args.report:
+        from trajkit.report import page_title
+
+        title = page_title(args.out / "index.html")
+        if title is not None and not title.startswith("trajkit: "):
+            raise CommandError(
+                f"--out {args.out} already holds the index.html of {title!r}; --report would "
+                "replace it: choose another folder or remove that file"
+            )
     outcome = execute(load(args.scenario), args.out, report=args.report)
     for path in outcome.files:
         print(f"wrote {path}")
@@ -294,9 +468,15 @@ def _run_scenario(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_out_folder(folder: Path) -> None:
+    if folder.exists() and not folder.is_dir():
+        raise CommandError(f"--out {folder} is a file, not a folder")
+
+
 def _demo(args: argparse.Namespace) -> int:
     from trajkit.demo import run
 
+    _check_out_folder(args.out)
     written = run(args.out, log=print)
     print(f"trajkit demo: wrote {len(written)} files to {args.out}")
     return 0

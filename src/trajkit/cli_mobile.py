@@ -3,12 +3,15 @@
 Three commands: ``twist`` (seed 000's ``move_jackal``), ``goto`` (its
 rotate–translate–rotate task) and ``figure8`` (seed 002's flat output, tracked
 by a controller). Each prints a summary and writes what ``--csv``, ``--plot``
-and ``--path-plot`` ask for, all together or not at all.
+and ``--path-plot`` ask for, all together or not at all. Like ``trajkit run``,
+a plan that breaks a limit is still printed and written, and the exit status is
+1 (``EXIT_LIMITS_BROKEN``).
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +19,7 @@ import numpy as np
 from trajkit.cli_sim import add_sim_options, check_sim_options, render_or_note, write_frames
 from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import staged_files
+from trajkit.limits import Report
 from trajkit.mobile import (
     DiffDrive,
     MobileLimits,
@@ -29,6 +33,7 @@ from trajkit.mobile import (
 from trajkit.mobile.control import controller_named
 from trajkit.mobile.flatness import FigureEight
 from trajkit.mobile.models import BASES, Model
+from trajkit.mobile.plans import MAX_TRAVEL
 
 __all__ = ["add_mobile_commands", "describe", "run_mobile"]
 
@@ -51,7 +56,9 @@ def add_mobile_commands(commands: argparse._SubParsersAction) -> None:
     """Register ``trajkit mobile twist|goto|figure8``."""
     mobile = commands.add_parser(
         "mobile", help="plan and simulate a wheeled robot's motion",
-        description="Wheeled robots: a constant twist, a move to a pose, a figure eight.",
+        description="Wheeled robots: a constant twist, a move to a pose, a figure eight. "
+        "Every plan is checked against the robot's limits (and those given); a plan that "
+        "breaks one is still printed and written, and the exit status is 1.",
     )  # fmt: skip
     kinds = mobile.add_subparsers(dest="mobile_command", metavar="MOTION")
     kinds.required = True
@@ -90,8 +97,13 @@ def add_mobile_commands(commands: argparse._SubParsersAction) -> None:
     eight.add_argument("--offset", type=float, nargs=3, metavar=("DX", "DY", "DTHETA_DEG"),
                        default=(0.0, 0.0, 0.0),
                        help="start this far from the curve's start (m, m, deg)")  # fmt: skip
-    eight.add_argument("--vmax", type=float, help="speed limit (m/s)")
-    eight.add_argument("--wmax-deg", type=float, help="turn-rate limit (deg/s)")
+    # Without --fit the curve keeps its timing and is checked against the limits: a
+    # user who gives --vmax expects it enforced, so breaking it exits 1, never 0.
+    eight.add_argument("--vmax", type=float,
+                       help="speed limit (m/s); the plan is checked against it (exit 1 when "
+                       "broken), and --fit slows the curve down to meet it")  # fmt: skip
+    eight.add_argument("--wmax-deg", type=float,
+                       help="turn-rate limit (deg/s), checked like --vmax")  # fmt: skip
     eight.add_argument("--fit", action="store_true",
                        help="slow the curve down uniformly until every limit holds")  # fmt: skip
     eight.add_argument(
@@ -113,8 +125,16 @@ def _limits(model: Model, args: argparse.Namespace) -> MobileLimits:
     return model.limits.replace(**changes)
 
 
-def describe(plan: MobileTrajectory) -> str:
-    """A few lines about a plan: what it is, where it goes, and its limit check."""
+def describe(plan: MobileTrajectory, report: Report | None = None) -> str:
+    """A few lines about a plan: what it is, where it goes, and its limit check.
+
+    Parameters
+    ----------
+    plan : MobileTrajectory
+    report : Report, optional
+        ``plan.check()``, when the caller has it already (checking a curve is the
+        costly part).
+    """
     info = plan.info
     start, end = plan.start_pose, plan.end_pose
     lines = [
@@ -137,7 +157,7 @@ def describe(plan: MobileTrajectory) -> str:
         if info.get("limited_by"):
             line += f" (set by the {info['limited_by']} limit)"
         lines.append(line)
-    report = plan.check()
+    report = plan.check() if report is None else report
     lines += ["  " + line for line in str(report).splitlines()]
     return "\n".join(lines)
 
@@ -211,6 +231,11 @@ def run_mobile(args: argparse.Namespace) -> int:
             output, model=model, limits=limits, timing="within_limits" if args.fit else "as_given"
         )
         dx, dy, dtheta = args.offset
+        with np.errstate(over="ignore"):
+            away = float(np.hypot(dx, dy))
+        if not (away <= MAX_TRAVEL and np.isfinite(dtheta)):
+            raise InvalidInputError(f"--offset must be finite and at most {MAX_TRAVEL:g} m from "
+                                    f"the curve's start, got {dx:g} {dy:g} {dtheta:g}")  # fmt: skip
         start = plan.start_pose + np.array([dx, dy, np.radians(dtheta)])
         controller = controller_named(args.controller)
         if args.sim == "kinematic":
@@ -218,7 +243,10 @@ def run_mobile(args: argparse.Namespace) -> int:
                            command_rate_hz=args.rate_hz)  # fmt: skip
         title = f"figure eight {args.width:g} m x {args.height:g} m, {args.controller}"
     images: list = []
-    lines = [describe(plan)]
+    report = plan.check()
+    lines = [describe(plan, report)]
+    if not report.ok and args.mobile_command == "figure8" and not args.fit:
+        lines.append("  (--fit slows the curve down uniformly until every limit holds)")
     if args.sim == "mujoco":
         from trajkit import sim
 
@@ -235,4 +263,11 @@ def run_mobile(args: argparse.Namespace) -> int:
     print("\n".join(lines))
     for path in written:
         print(f"wrote {path}")
+    if not report.ok:
+        from trajkit.cli import EXIT_LIMITS_BROKEN
+
+        # The same verdict and line as ``trajkit run``: scripts can tell a plan that
+        # breaks a limit (written, status 1) from a success and from an error (2).
+        print("trajkit: the plan breaks a limit (see the limit check above)", file=sys.stderr)
+        return EXIT_LIMITS_BROKEN
     return 0

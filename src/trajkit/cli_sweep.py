@@ -39,8 +39,12 @@ def run_sweep(args: argparse.Namespace) -> int:
     spec = sweep.load(args.sweep)
     progress = None if args.quiet else sweep.progress_bar()
     try:
-        summary = sweep.run(spec, args.out, engine=args.engine, workers=args.workers,
-                            address=args.address, progress=progress)  # fmt: skip
+        try:
+            summary = sweep.run(spec, args.out, engine=args.engine, workers=args.workers,
+                                address=args.address, progress=progress)  # fmt: skip
+        finally:
+            if progress is not None:  # an error or interruption line must start a line
+                progress.close()
     except KeyboardInterrupt:
         print("trajkit: interrupted; the finished chunks are kept: run the same command again "
               "to resume", file=sys.stderr)  # fmt: skip

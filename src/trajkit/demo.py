@@ -13,6 +13,7 @@ import numpy as np
 
 import trajkit as tk
 from trajkit import mobile
+from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import StagedFiles, staged_files
 from trajkit.kinematics import Planar2R, SerialChain, Spatial3R
 from trajkit.mobile import MobileTrajectory, SimulationLog
@@ -29,6 +30,8 @@ from trajkit.taskspace import (
 __all__ = ["EXAMPLES", "run"]
 
 Log = Callable[[str], None]
+#: The title of the demo's index.html, by which a rerun recognises its own page.
+DEMO_TITLE = "trajkit demo"
 
 
 def _ascending(trajectory: tk.Trajectory, piece: int, joint: int = 0) -> str:
@@ -418,11 +421,25 @@ def run(out: str | Path, log: Log = print) -> list[Path]:
 
     The worked examples' files are written all together or not at all; each
     scenario's likewise. ``index.html`` gathers the scenarios' results.
+
+    Raises
+    ------
+    InvalidInputError
+        If ``out`` holds an ``index.html`` that another command wrote (``trajkit run
+        --report``): the demo refuses to replace it.
     """
     from trajkit import scenario
-    from trajkit.report import write_report
+    from trajkit.report import page_title, write_report
 
     folder = Path(out)
+    index_page = folder / "index.html"
+    title = page_title(index_page)
+    if title is not None and title != DEMO_TITLE:
+        # Another run's report (trajkit run --report): replacing it silently loses it.
+        raise InvalidInputError(
+            f"out {folder} already holds the index.html of {title!r}, which the demo would "
+            "replace: choose another folder or remove that file"
+        )
     folder.mkdir(parents=True, exist_ok=True)
     lines: list[str] = []
 
@@ -449,9 +466,8 @@ def run(out: str | Path, log: Log = print) -> list[Path]:
             log(line)
         entries.append(scenario.report_entry(spec, outcome))
         written += outcome.files
-    index_page = folder / "index.html"
     written.append(write_report(
-        index_page, entries, title="trajkit demo",
+        index_page, entries, title=DEMO_TITLE,
         intro="Every example scenario that ships with trajkit, run by trajkit demo. The "
         "worked examples of the coursework are in summary.txt and the files beside it.",
     ))  # fmt: skip

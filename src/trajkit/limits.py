@@ -2,19 +2,28 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit._validation import FloatArray, as_float_array, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
 
 if TYPE_CHECKING:
     from trajkit.trajectory import Extrema, Trajectory
 
-__all__ = ["Bounds", "Limits", "Report", "Violation", "check", "compare", "parse_bounds"]
+__all__ = [
+    "Bounds",
+    "Discontinuity",
+    "Limits",
+    "Report",
+    "Violation",
+    "check",
+    "compare",
+    "parse_bounds",
+]
 
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 UNIT_SUFFIX = ("", "/s", "/s^2", "/s^3")
@@ -48,18 +57,13 @@ class Bounds:
 def _bound_side(name: str, value: Any, unbounded: float, open_allowed: bool) -> FloatArray:
     """One side of a range; a position range may be open (``-inf`` below, ``inf`` above)."""
     if not open_allowed:
-        return finite_array(name, value)
-    array = np.array(value, dtype=np.float64) if _numeric(value) else finite_array(name, value)
-    finite_array(name, np.where(array == unbounded, 0.0, array))
+        array = finite_array(name, value)
+    else:
+        array = np.array(as_float_array(name, value))
+        finite_array(name, np.where(array == unbounded, 0.0, array))
+    if array.size == 0:
+        raise InvalidInputError(f"{name} must be a number or one number per joint, got []")
     return array
-
-
-def _numeric(value: Any) -> bool:
-    try:
-        np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        return False
-    return True
 
 
 def parse_bounds(name: str, spec: LimitSpec, *, quantity: str | None = None) -> Bounds | None:
@@ -106,6 +110,8 @@ def parse_bounds(name: str, spec: LimitSpec, *, quantity: str | None = None) -> 
             f"{name} limits must be a tuple (lower, upper) of numbers or per-joint arrays"
         )
     magnitude = finite_array(name, spec)
+    if magnitude.size == 0:
+        raise InvalidInputError(f"{name} must be a number or one number per joint, got []")
     if magnitude.ndim > 1:
         raise InvalidInputError(
             f"{name} must be a number or one number per joint, got shape {magnitude.shape}"
@@ -166,6 +172,12 @@ class Violation:
     ``joint`` counts from 0; ``time`` (s) is where ``value`` occurs; ``bound`` is the
     limit it passes (the lower bound when ``value`` is below it). ``channel`` names
     what is checked when it is not a joint ("base", "left wheel"...).
+
+    ``value`` is ``inf`` or ``-inf`` where a lower derivative jumps: a step in
+    position is an unbounded velocity (and acceleration, jerk), a step in velocity
+    an unbounded acceleration, a jump in acceleration an unbounded jerk. ``cause``
+    then says which quantity jumps and by how much, and ``time`` is the first
+    breakpoint where it does.
     """
 
     quantity: str
@@ -174,6 +186,7 @@ class Violation:
     value: float
     bound: float
     channel: str = ""
+    cause: str = ""
 
     @property
     def excess(self) -> float:
@@ -182,9 +195,34 @@ class Violation:
 
     def __str__(self) -> str:
         what = self.channel or f"joint {self.joint + 1}"
+        if self.cause:
+            return (
+                f"{self.quantity} of {what} is unbounded ({self.value:g}) at "
+                f"t={self.time:.6g} s, beyond the bound {self.bound:.6g}: {self.cause}"
+            )
         return (
             f"{self.quantity} of {what} reaches {self.value:.6g} "
             f"at t={self.time:.6g} s, beyond the bound {self.bound:.6g}"
+        )
+
+
+@dataclass(frozen=True)
+class Discontinuity:
+    """The largest jump of one quantity of one joint at a breakpoint.
+
+    ``jump`` is the value after minus the value before (units of the quantity),
+    at ``time`` (s); ``joint`` counts from 0.
+    """
+
+    quantity: str
+    joint: int
+    time: float
+    jump: float
+
+    def __str__(self) -> str:
+        return (
+            f"{self.quantity} of joint {self.joint + 1} jumps by {self.jump:.6g} "
+            f"at t={self.time:.6g} s"
         )
 
 
@@ -193,14 +231,19 @@ class Report:
     """Outcome of :func:`check`: ``ok`` and the violations, plus the peaks it saw.
 
     ``peaks[quantity]`` is ``(minimum, maximum)`` per joint for every quantity that
-    had a limit; ``bounds[quantity]`` the ``(lower, upper)`` arrays checked against;
-    ``channels[quantity]``, where given, names each entry instead of a joint number.
+    had a limit (``-inf`` / ``inf`` where a lower derivative jumps, see
+    :class:`Violation`); ``bounds[quantity]`` the ``(lower, upper)`` arrays checked
+    against; ``channels[quantity]``, where given, names each entry instead of a
+    joint number. ``discontinuities`` lists, per quantity (position, velocity,
+    acceleration) and joint, the largest jump at a breakpoint, whether or not a
+    limit makes it a violation (a trapezoid's acceleration jumps by design).
     """
 
     violations: tuple[Violation, ...]
     peaks: dict[str, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
     bounds: dict[str, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
     channels: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    discontinuities: tuple[Discontinuity, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -215,7 +258,8 @@ class Report:
 
         The larger of ``maximum / upper`` and ``minimum / lower``: 1 at the bound,
         above 1 past it, 0 for a side never reached. A bound of 0 that is passed
-        gives ``inf``.
+        gives ``inf``, and so does a quantity made unbounded by a jump of a lower
+        derivative.
 
         Parameters
         ----------
@@ -273,6 +317,12 @@ def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Repo
     ``|lower|`` and ``|upper|``: time-optimal trajectories touch
     their limits, and the last bits of floating point must not flag them.
 
+    Between pieces, a jump of derivative ``k`` (beyond ``rtol`` relative to the
+    size of the values, see :meth:`Trajectory.jumps`) makes every derivative above
+    ``k`` unbounded: a limit on one of them is violated with the value ``inf`` or
+    ``-inf`` (the sign of the jump for derivative ``k + 1``; both signs for higher
+    ones, the derivative of an impulse going both ways) at the breakpoint.
+
     Parameters
     ----------
     trajectory : Trajectory
@@ -283,7 +333,8 @@ def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Repo
     Returns
     -------
     Report
-        At most one violation per quantity, joint and side: the worst one.
+        At most one violation per quantity, joint and side: the worst one (an
+        unbounded value first, at its earliest time).
     """
     if not isinstance(limits, Limits):
         raise InvalidInputError(f"limits must be a trajkit.Limits, got {type(limits).__name__}")
@@ -291,16 +342,71 @@ def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Repo
     violations: list[Violation] = []
     peaks: dict[str, tuple[FloatArray, FloatArray]] = {}
     checked: dict[str, tuple[FloatArray, FloatArray]] = {}
+    jumps = [trajectory.jumps(order, rtol=tolerance) for order in range(len(QUANTITIES) - 1)]
+    times = trajectory.breakpoints[1:-1]
     for order, quantity in enumerate(QUANTITIES):
         bounds: Bounds | None = getattr(limits, quantity)
         if bounds is None:
             continue
         lower, upper = bounds.for_ndof(quantity, trajectory.ndof)
-        found = trajectory.extrema(order)
+        found, causes = _unbounded_at_jumps(trajectory.extrema(order), jumps[:order], times)
         peaks[quantity] = (found.minimum, found.maximum)
         checked[quantity] = (lower, upper)
-        violations += compare(quantity, found, lower, upper, tolerance)
-    return Report(tuple(violations), peaks, checked)
+        for violation in compare(quantity, found, lower, upper, tolerance):
+            cause = causes.get((violation.joint, violation.value > 0))
+            violations.append(replace(violation, cause=cause) if cause else violation)
+    return Report(tuple(violations), peaks, checked, discontinuities=_largest(jumps, times))
+
+
+def _unbounded_at_jumps(
+    found: Extrema, jumps: list[FloatArray], times: FloatArray
+) -> tuple[Extrema, dict[tuple[int, bool], str]]:
+    """``found`` with ``±inf`` where a lower derivative jumps, and what jumps there.
+
+    ``jumps[k]`` holds derivative ``k``'s jumps, shape ``(m - 1, ndof)``. The causes
+    are keyed by joint and side (True for the upper one).
+    """
+    minimum, maximum = found.minimum.copy(), found.maximum.copy()
+    t_min, t_max = found.time_of_minimum.copy(), found.time_of_maximum.copy()
+    causes: dict[tuple[int, bool], str] = {}
+    last = len(jumps) - 1
+    for j in range(minimum.size):
+        for upper in (False, True):
+            best: tuple[float, str] | None = (
+                None  # earliest breakpoint that makes this side unbounded
+            )
+            for k, table in enumerate(jumps):
+                column = table[:, j]
+                # The next derivative of a step has the step's sign; higher ones both.
+                hit = column != 0.0 if k < last else (column > 0 if upper else column < 0)
+                if hit.any():
+                    i = int(np.argmax(hit))
+                    if best is None or times[i] < best[0]:
+                        text = f"{QUANTITIES[k]} jumps by {column[i]:.6g} at t={times[i]:.6g} s"
+                        best = (float(times[i]), text)
+            if best is None:
+                continue
+            if upper:
+                maximum[j], t_max[j] = np.inf, best[0]
+            else:
+                minimum[j], t_min[j] = -np.inf, best[0]
+            causes[(j, upper)] = best[1]
+    return (
+        type(found)(found.order, minimum, t_min, maximum, t_max),
+        causes,
+    )
+
+
+def _largest(jumps: list[FloatArray], times: FloatArray) -> tuple[Discontinuity, ...]:
+    """The largest jump per quantity and joint, for the report."""
+    out = []
+    for k, table in enumerate(jumps):
+        for j in range(table.shape[1]):
+            column = table[:, j]
+            if column.any():
+                i = int(np.argmax(np.abs(column)))
+                out.append(Discontinuity(QUANTITIES[k], j, float(times[i]), float(column[i])))
+    return tuple(out)
 
 
 def compare(

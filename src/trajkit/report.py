@@ -11,13 +11,14 @@ from __future__ import annotations
 import base64
 import html
 import os
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from trajkit.io.atomic import atomic_write
 
-__all__ = ["Entry", "write_report"]
+__all__ = ["Entry", "page_title", "write_report"]
 
 _PICTURES = {".png": "image/png", ".gif": "image/gif", ".svg": "image/svg+xml",
              ".mp4": "video/mp4"}  # fmt: skip
@@ -100,6 +101,20 @@ def _relative(target: Path, folder: Path) -> str:
         return Path(os.path.relpath(target, folder)).as_posix()
     except ValueError:  # another drive
         return target.as_uri()
+
+
+def page_title(path: str | os.PathLike[str]) -> str | None:
+    """The title of the report page at ``path``; None if there is none or it is no report.
+
+    Lets a command tell its own earlier page from another one's before replacing it.
+    """
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096).decode("utf-8", "replace")
+    except OSError:
+        return None
+    match = re.search(r"<title>(.*?)</title>", head, flags=re.DOTALL)
+    return None if match is None else html.unescape(match.group(1))
 
 
 def write_report(

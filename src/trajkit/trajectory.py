@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -14,6 +15,7 @@ from numpy.typing import ArrayLike
 from trajkit import _poly
 from trajkit._validation import (
     FloatArray,
+    as_float_array,
     finite_array,
     increasing_times,
     positive_scalar,
@@ -27,6 +29,14 @@ if TYPE_CHECKING:
 __all__ = ["Extrema", "State", "Trajectory"]
 
 _QUANTITY = ("position", "velocity", "acceleration", "jerk")
+
+# A jump at a breakpoint smaller than this, relative to the size of the terms that
+# make up the values on either side (plus 1), is rounding, not a discontinuity.
+JUMP_RTOL = 1e-9
+# How far an exact boundary state given to the constructor may differ from the
+# polynomial's own value there (relative, plus 1): rounding of the planner's
+# arithmetic, never a different motion.
+_BOUNDARY_RTOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -81,17 +91,28 @@ class Trajectory:
         Local power-basis coefficients; a 2-D array means one joint.
     info : mapping, optional
         Plan data a planner attaches (phase times, limiting joint, ...). Read-only.
+    start, end : array_like, shape (r, ndof), optional
+        The exact state at ``start_time`` / ``end_time``: row ``i`` is derivative
+        ``i`` (position, velocity, ...), one column per joint; a 1-D array is the
+        position alone. ``NaN`` means "the polynomial's own value". Planners pass the
+        boundary conditions they were given (``qf``, ``vf``...), so that the end of a
+        rest-to-rest move reads ``v = 0.0`` exactly rather than a rounding residue
+        such as ``-1.4e-10`` (a sign flip a controller sees). Each value must agree
+        with the polynomial to ``1e-6 * (1 + scale)``, ``scale`` the size of the
+        terms that make up the polynomial's value there.
 
     Notes
     -----
     Times outside ``[start_time, end_time]`` are clamped: position and every
     derivative take their value at the nearest end (the end state is held). For a
     trajectory that starts and ends at rest this is the same as standing still.
+    At ``t <= start_time`` and ``t >= end_time`` the exact ``start`` / ``end``
+    values are returned where given; without them, the polynomial's.
 
     The object never changes after construction; methods return new trajectories.
     """
 
-    __slots__ = ("_breakpoints", "_coefficients", "_derivatives", "_info")
+    __slots__ = ("_breakpoints", "_coefficients", "_derivatives", "_end", "_info", "_start")
 
     def __init__(
         self,
@@ -99,6 +120,8 @@ class Trajectory:
         coefficients: ArrayLike,
         *,
         info: Mapping[str, Any] | None = None,
+        start: ArrayLike | None = None,
+        end: ArrayLike | None = None,
     ) -> None:
         raw = finite_array("breakpoints", breakpoints, unit="s")
         if raw.shape == (2,) and raw[0] == raw[1]:
@@ -128,6 +151,41 @@ class Trajectory:
         self._coefficients = c
         self._derivatives: dict[int, FloatArray] = {0: c}
         self._info: Mapping[str, Any] = MappingProxyType(dict(info or {}))
+        self._start = self._boundary("start", start, at_end=False)
+        self._end = self._boundary("end", end, at_end=True)
+
+    def _boundary(self, name: str, value: ArrayLike | None, *, at_end: bool) -> FloatArray | None:
+        """The exact boundary state ``value`` as ``(r, ndof)``, checked against the pieces."""
+        if value is None:
+            return None
+        state = np.array(as_float_array(name, value))
+        ndof = self.ndof
+        if state.ndim == 1:
+            state = state[np.newaxis, :]
+        if state.ndim != 2 or state.shape[0] == 0 or state.shape[1] != ndof:
+            raise InvalidInputError(
+                f"{name} must have shape (r, ndof) = (r, {ndof}) with r >= 1 (row i: "
+                f"derivative i), got shape {state.shape}"
+            )
+        if np.isinf(state).any():
+            raise InvalidInputError(f"{name} must be finite or NaN, got {state.tolist()}")
+        piece = -1 if at_end else 0
+        x = float(self._breakpoints[-1] - self._breakpoints[-2]) if at_end else 0.0
+        for order, row in enumerate(state):
+            c = self._coefficients_of(order)[:, piece, :]
+            value = _poly.horner(c, x)
+            scale = _poly.horner(np.abs(c), abs(x))
+            off = np.abs(row - value) > _BOUNDARY_RTOL * (1.0 + scale)
+            if off.any():
+                j = int(np.flatnonzero(off)[0])
+                where = "end_time" if at_end else "start_time"
+                raise InvalidInputError(
+                    f"{name}[{order}] (the {_quantity(order)}) of joint {j + 1} is "
+                    f"{row[j]:.9g} but the pieces give {value[j]:.9g} at {where}: the exact "
+                    "boundary state must agree with the polynomial up to rounding"
+                )
+        state.setflags(write=False)
+        return state
 
     # ------------------------------------------------------------------ shape
     @property
@@ -254,6 +312,15 @@ class Trajectory:
             for row in c[1:]:
                 result *= x
                 result += np.take(row, piece, axis=1)
+        # The exact boundary states where given: the polynomial there is rounding.
+        for state, at_end in ((self._start, False), (self._end, True)):
+            if state is None or order >= state.shape[0]:
+                continue
+            at = clamped >= bp[-1] if at_end else clamped <= bp[0]
+            if at.any():
+                row = state[order]
+                given = ~np.isnan(row)
+                result[np.ix_(given, at)] = row[given, np.newaxis]
         # Joint-major result transposed: a (n, ndof) view, no copy.
         return result[:, 0] if times.ndim == 0 else result.T
 
@@ -310,7 +377,13 @@ class Trajectory:
     def derivative(self, order: int = 1) -> Trajectory:
         """The ``order``-th time derivative as a new Trajectory on the same breakpoints."""
         _check_order(order)
-        return Trajectory(self._breakpoints, self._coefficients_of(int(order)))
+        order = int(order)
+        return Trajectory(
+            self._breakpoints,
+            self._coefficients_of(order),
+            start=_shift_rows(self._start, order),
+            end=_shift_rows(self._end, order),
+        )
 
     def time_scaled(self, factor: float) -> Trajectory:
         """Slow down (``factor > 1``) or speed up (``< 1``) about ``start_time``.
@@ -324,6 +397,8 @@ class Trajectory:
         return Trajectory(
             bp[0] + (bp - bp[0]) * scale,
             _poly.scale_argument(self._coefficients, 1.0 / scale),
+            start=_scale_rows(self._start, scale),
+            end=_scale_rows(self._end, scale),
         )
 
     def then(self, other: Trajectory, *, atol: float = 1e-9) -> Trajectory:
@@ -374,15 +449,20 @@ class Trajectory:
             warnings.warn(message, ContinuityWarning, stacklevel=2)
         # A zero-duration standstill adds no piece.
         if other.duration == 0.0:
-            return Trajectory(self._breakpoints, self._coefficients)
+            return Trajectory(
+                self._breakpoints, self._coefficients, start=self._start, end=self._end
+            )
         if self.duration == 0.0:
             offset = self.end_time - other.start_time
-            return Trajectory(other._breakpoints + offset, other._coefficients)
+            return Trajectory(
+                other._breakpoints + offset, other._coefficients, start=other._start,
+                end=other._end,
+            )  # fmt: skip
         degree = max(self.degree, other.degree)
         c = np.concatenate([_pad(self._coefficients, degree), _pad(other._coefficients, degree)], 1)
         offset = self.end_time - other.start_time
         bp = np.concatenate([self._breakpoints, other._breakpoints[1:] + offset])
-        return Trajectory(bp, c)
+        return Trajectory(bp, c, start=self._start, end=other._end)
 
     def absolute_coefficients(self) -> FloatArray:
         """Coefficients in powers of absolute time ``t`` instead of ``t - breakpoints[i]``.
@@ -421,6 +501,58 @@ class Trajectory:
             time_of_maximum=np.minimum(starts[i_high] + x_high[i_high, joints], stops[i_high]),
         )
 
+    def jumps(self, order: int = 0, *, rtol: float = JUMP_RTOL) -> FloatArray:
+        """Jump of the ``order``-th derivative at each interior breakpoint.
+
+        The jump is the value the next piece starts with minus the value the
+        previous piece ends with, computed exactly from the coefficients. A jump no
+        larger than ``rtol * (1 + scale)`` is rounding and reported as 0, ``scale``
+        being the size of the terms that make up the two values (the sum of the
+        absolute terms of the ending piece, or the starting value).
+
+        Parameters
+        ----------
+        order : int
+            0 position, 1 velocity, 2 acceleration, 3 jerk, any higher order allowed.
+        rtol : float
+            Relative tolerance (default 1e-9, that of :func:`trajkit.check`).
+
+        Returns
+        -------
+        ndarray, shape (m - 1, ndof)
+            Row ``i`` is the jump at ``breakpoints[i + 1]`` (units of the trajectory
+            per second**order); empty for a single piece.
+        """
+        _check_order(order)
+        tolerance = positive_scalar("rtol", rtol)
+        c = self._coefficients_of(int(order))
+        if c.shape[1] < 2:
+            return np.zeros((0, self.ndof))
+        lengths = np.diff(self._breakpoints)[:-1, np.newaxis]  # (m - 1, 1)
+        ending = c[:, :-1, :]
+        left = _poly.horner(ending, lengths)
+        right = c[-1, 1:, :]
+        scale = np.maximum(_poly.horner(np.abs(ending), lengths), np.abs(right))
+        jump = right - left
+        return np.where(np.abs(jump) > tolerance * (1.0 + scale), jump, 0.0)
+
+    @property
+    def continuity(self) -> float:
+        """Highest derivative order continuous everywhere, measured from the pieces.
+
+        ``-1`` when the position itself jumps, ``0`` when only the position is
+        continuous, ``1`` for continuous velocity (C1), ``2`` for continuous
+        acceleration (C2)...; ``math.inf`` when no derivative jumps (a single
+        polynomial). Jumps are judged as in :meth:`jumps` (relative tolerance
+        1e-9). A planner's claim is in ``info["continuity"]``.
+        """
+        if self._coefficients.shape[1] < 2:
+            return math.inf
+        for order in range(self.degree + 1):
+            if self.jumps(order).any():
+                return order - 1
+        return math.inf
+
     def check(self, limits: Limits, *, rtol: float = 1e-9) -> Report:
         """Verify ``limits`` exactly on the polynomial pieces; see :func:`trajkit.check`."""
         from trajkit.limits import check
@@ -455,6 +587,22 @@ def sample_times(start: float, end: float, step: float) -> FloatArray:
     else:
         times = np.append(times, end)
     return times
+
+
+def _quantity(order: int) -> str:
+    return _QUANTITY[order] if order < len(_QUANTITY) else f"derivative {order}"
+
+
+def _shift_rows(state: FloatArray | None, order: int) -> FloatArray | None:
+    """The boundary state of the ``order``-th derivative: the rows from ``order`` on."""
+    return None if state is None or state.shape[0] <= order else state[order:]
+
+
+def _scale_rows(state: FloatArray | None, factor: float) -> FloatArray | None:
+    """The boundary state after slowing down by ``factor``: row ``i`` over ``factor**i``."""
+    if state is None:
+        return None
+    return state / factor ** np.arange(state.shape[0])[:, np.newaxis]
 
 
 def _check_order(order: object) -> None:

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
+import subprocess
+import sys
 from pathlib import Path
 from typing import IO
 
@@ -246,3 +249,175 @@ def test_staged_folders_appear_with_the_files_or_not_at_all(tmp_path):
         (made / "other").write_text("x")
     assert sorted(p.name for p in (tmp_path / "bag").iterdir()) == ["other"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "bag"]
+
+
+# ------------------------------------------------- publishing, stale temporaries, errors
+
+
+def test_a_rename_failing_midway_restores_every_target(tmp_path, monkeypatch):
+    # Three outputs, the second rename fails: the first, already replaced, gets its
+    # old content back and the third (new) never appears: old PNG, old CSV, no mix.
+    import trajkit.io.atomic as atomic
+
+    csv, png, txt = tmp_path / "m.csv", tmp_path / "m.png", tmp_path / "m.txt"
+    csv.write_bytes(b"old csv")
+    png.write_bytes(b"old png")
+    real_replace = os.replace
+    calls: list[str] = []
+
+    def replace(source, destination):
+        calls.append(os.fspath(destination))
+        if len(calls) == 2:
+            raise OSError(errno.ENOSPC, "No space left on device", os.fspath(destination))
+        real_replace(source, destination)
+
+    monkeypatch.setattr(atomic.os, "replace", replace)
+    with pytest.raises(OSError) as excinfo, staged_files() as stage:
+        stage.path(csv).write_bytes(b"new csv")
+        stage.path(png).write_bytes(b"new png")
+        stage.path(txt).write_bytes(b"new txt")
+    monkeypatch.undo()
+    assert excinfo.value.errno == errno.ENOSPC
+    assert excinfo.value.filename == os.fspath(png)  # the target, not a temporary
+    assert csv.read_bytes() == b"old csv"
+    assert png.read_bytes() == b"old png"
+    assert _names(tmp_path) == ["m.csv", "m.png"]  # no new file, no temporary, no backup
+
+
+def test_a_failed_publish_removes_the_new_files_it_placed(tmp_path, monkeypatch):
+    import trajkit.io.atomic as atomic
+
+    real_replace = os.replace
+    calls: list[int] = []
+
+    def replace(source, destination):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        real_replace(source, destination)
+
+    monkeypatch.setattr(atomic.os, "replace", replace)
+    with pytest.raises(KeyboardInterrupt), staged_files() as stage:
+        stage.path(tmp_path / "a.csv").write_bytes(b"a")
+        stage.path(tmp_path / "b.png").write_bytes(b"b")
+    assert _names(tmp_path) == []
+
+
+def test_temporaries_carry_the_final_name_and_the_process_id(tmp_path):
+    from trajkit.io.atomic import final_name
+
+    with staged_files() as stage:
+        temporary = stage.path(tmp_path / "move.csv")
+        assert temporary.name.startswith(".trajkit-tmp-")
+        assert f"-{os.getpid()}-" in temporary.name
+        assert temporary.name.endswith("-move.csv")
+        assert final_name(temporary) == "move.csv"
+        temporary.write_bytes(b"x")
+    assert final_name(tmp_path / "plain.gif") == "plain.gif"
+
+
+def _stale_name(pid: int, name: str) -> str:
+    from trajkit.io.atomic import _HOST
+
+    return f".trajkit-tmp-{_HOST}-{pid}-abcd1234-{name}"
+
+
+def _dead_pid() -> int:
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    return child.pid  # reaped: no process has this id now (reuse within a test is unlikely)
+
+
+def test_the_next_write_removes_temporaries_of_dead_processes_only(tmp_path):
+    dead = _dead_pid()
+    stale_file = tmp_path / _stale_name(dead, "big.csv")
+    stale_file.write_bytes(b"partial")
+    stale_folder = tmp_path / _stale_name(dead, "bag")
+    stale_folder.mkdir()
+    (stale_folder / "data").write_bytes(b"x")
+    live = tmp_path / _stale_name(os.getppid(), "other.csv")  # its writer still runs
+    live.write_bytes(b"being written")
+    foreign = tmp_path / ".trajkit-tmp-0badc0de-1-abcd1234-x.csv"  # another host's
+    foreign.write_bytes(b"?")
+    atomic_write(tmp_path / "out.txt", lambda h: h.write(b"x"))
+    assert _names(tmp_path) == sorted([live.name, foreign.name, "out.txt"])
+
+
+def test_a_sigkilled_writer_leaves_a_temporary_that_the_next_run_removes(tmp_path):
+    script = (
+        "import sys, time\n"
+        "from trajkit.io import atomic_write\n"
+        "def write(handle):\n"
+        "    handle.write(b'row,' * 100000)\n"
+        "    handle.flush()\n"
+        "    print('writing', flush=True)\n"
+        "    time.sleep(60)\n"
+        f"atomic_write({str(tmp_path / 'samples.csv')!r}, write)\n"
+    )
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    try:
+        assert child.stdout.readline() == "writing\n"
+        left = _names(tmp_path)
+        assert len(left) == 1 and left[0].endswith("-samples.csv")
+        # While the writer lives, its temporary is left alone.
+        with staged_files() as stage:
+            stage.path(tmp_path / "first.txt").write_bytes(b"1")
+        assert left[0] in _names(tmp_path)
+    finally:
+        child.kill()
+        child.wait()
+    import trajkit.io.atomic as atomic
+
+    atomic._swept.clear()  # a new run: this process has already searched the folder
+    with staged_files() as stage:
+        stage.path(tmp_path / "second.txt").write_bytes(b"2")
+    assert _names(tmp_path) == ["first.txt", "second.txt"]
+
+
+def test_data_and_folder_are_flushed_to_disk_before_and_after_the_rename(tmp_path, monkeypatch):
+    import trajkit.io.atomic as atomic
+
+    events: list[str] = []
+    real_fsync, real_replace = os.fsync, os.replace
+
+    def fsync(descriptor):
+        kind = "folder" if stat.S_ISDIR(os.fstat(descriptor).st_mode) else "file"
+        events.append(f"fsync {kind}")
+        real_fsync(descriptor)
+
+    def replace(source, destination):
+        events.append("rename")
+        real_replace(source, destination)
+
+    monkeypatch.setattr(atomic.os, "fsync", fsync)
+    monkeypatch.setattr(atomic.os, "replace", replace)
+    atomic_write(tmp_path / "a.bin", lambda h: h.write(b"a"))
+    assert events == ["fsync file", "rename", "fsync folder"]
+    events.clear()
+    with staged_files() as stage:
+        stage.path(tmp_path / "b.bin").write_bytes(b"b")
+        stage.path(tmp_path / "c.bin").write_bytes(b"c")
+    assert events == ["fsync file", "fsync file", "rename", "rename", "fsync folder"]
+
+
+def test_write_errors_name_the_target_not_a_temporary(tmp_path):
+    def full(handle):
+        raise OSError(errno.ENOSPC, "No space left on device")  # write() names no file
+
+    with pytest.raises(OSError) as excinfo:
+        atomic_write(tmp_path / "m.csv", full)
+    assert (excinfo.value.errno, excinfo.value.filename) == (errno.ENOSPC, str(tmp_path / "m.csv"))
+    with pytest.raises(OSError) as excinfo, staged_files() as stage:
+        stage.path(tmp_path / "a.png").write_bytes(b"a")
+        atomic_write(stage.path(tmp_path / "b.csv"), full)
+    assert (excinfo.value.errno, excinfo.value.filename) == (errno.ENOSPC, str(tmp_path / "b.csv"))
+    assert _names(tmp_path) == []
+
+
+def test_a_file_where_the_folder_should_be_is_named(tmp_path):
+    (tmp_path / "afile").write_bytes(b"")
+    with pytest.raises(NotADirectoryError) as excinfo, staged_files() as stage:
+        stage.path(tmp_path / "afile" / "m.csv")
+    assert str(excinfo.value) == (
+        f"cannot write {tmp_path / 'afile' / 'm.csv'}: {tmp_path / 'afile'} is a file, not a folder"
+    )

@@ -452,3 +452,41 @@ def test_to_csv_adds_wheels_for_a_diff_drive(tmp_path):
     support.assert_state(table[-1, 1:4], arc_pose([0, 0, 0], 0.5, 0.2, 2.0), rtol=WORLD_ROUNDING)
     with pytest.raises(InvalidInputError, match=r"dt must be > 0"):
         plan.to_csv(tmp_path / "bad.csv", -0.1)
+
+
+# Jumps inside a segment's time law (issue 16, item 1) -------------------------------
+def _stepping_law(first: float, second: float) -> tk.Trajectory:
+    """Distance (or angle) at speed ``first`` for 1 s, then ``second`` for 1 s: one
+    velocity step at t = 1 s."""
+    return tk.Trajectory([0.0, 1.0, 2.0], [[[first], [second]], [[0.0], [first]]])
+
+
+def test_a_velocity_step_inside_a_drive_is_an_unbounded_acceleration():
+    drive = Straight(START, _stepping_law(0.2, 0.5))  # speeds up at once at t = 1 s
+    arc = Arc(drive.end_pose, 0.5, 0.0, 1.0)  # carries on at 0.5 m/s: no junction step
+    plan = MobileTrajectory([drive, arc], Unicycle())
+    report = plan.check(MobileLimits(velocity=1.0, acceleration=10.0))
+    (violation,) = report.violations
+    assert (violation.quantity, violation.time, violation.value, violation.bound) == (
+        "acceleration", 1.0, np.inf, 10.0,
+    )  # fmt: skip
+    assert violation.cause == "the twist jumps there (a segment junction or a law's step)"
+    assert "is unbounded (inf) at t=1 s" in str(violation)
+    assert report.peaks["acceleration"][1][0] == np.inf
+    assert report.peaks["velocity"][1][0] == pytest.approx(0.5, rel=CLOSED_FORM)
+
+
+def test_a_turn_slowing_at_once_is_an_unbounded_angular_deceleration_after_a_drive():
+    drive = Straight(START, DRIVE)  # a smooth trapezoid: no step, only bounded rates
+    turn = Turn(drive.end_pose, _stepping_law(0.8, 0.3))
+    # The turn starts at 0.8 rad/s from a stop (junction) and slows to 0.3 (law step).
+    report = MobileTrajectory([drive, turn], Unicycle()).check(
+        MobileLimits(angular_acceleration=5.0, acceleration=1.0)
+    )
+    found = {(v.quantity, v.value): v.time for v in report.violations}
+    assert found == {
+        ("angular acceleration", np.inf): DRIVE.duration,  # 0 -> 0.8 at the junction
+        ("angular acceleration", -np.inf): DRIVE.duration + 1.0,  # 0.8 -> 0.3 in the law
+    }
+    # A trapezoid law (velocity continuous) stays within the acceleration limit.
+    assert MobileTrajectory([drive], Unicycle()).check(MobileLimits(acceleration=1.0)).ok

@@ -6,7 +6,9 @@ output folder is made; Ctrl-C keeps the finished chunks and exits 130.
 
 from __future__ import annotations
 
+import io
 import re
+import sys
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -130,6 +132,31 @@ def test_a_missing_sweep_file_is_one_error_line(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(
+    ("content", "names"),
+    [
+        # Latin-1 text: a UnicodeDecodeError traceback before.
+        (good().replace('"cli trapezoids"', '"caf\xe9"').encode("latin-1"),
+         ["cannot read the sweep file", "odd.toml", "not UTF-8", "0xe9"]),
+        (b"\x89PNG\r\n\x1a\n\x00\x00", ["cannot read the sweep file", "odd.toml", "not UTF-8"]),
+        (b"\x00\x01 plain bytes", ["odd.toml", "is not valid TOML"]),
+        (None, ["cannot read the sweep file", "odd.toml", "a folder, not a file"]),
+    ],
+    ids=["latin-1", "binary", "nul-bytes", "folder"],
+)  # fmt: skip
+def test_an_unreadable_sweep_file_is_one_error_line(tmp_path, capsys, content, names):
+    path = tmp_path / "odd.toml"
+    if content is None:
+        path.mkdir()
+    else:
+        path.write_bytes(content)
+    out = tmp_path / "out"
+    status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(out), "--quiet")
+    assert (status, stdout) == (2, "")
+    assert_one_error_line(err, *names)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
     ("argv", "names"),
     [
         (["--workers", "0"], ["workers must be a whole number >= 1"]),
@@ -206,6 +233,52 @@ def test_ctrl_c_keeps_the_finished_chunks_and_exits_130(tmp_path, capsys, monkey
     assert "planned 2 chunks (10 problems)" in stdout
     assert "2 chunks were already done" in stdout
     assert rows(out)["problem"].to_pylist() == list(range(20))
+
+
+@pytest.mark.parametrize("stop", [KeyboardInterrupt, sweep.SweepError("disk trouble")],
+                         ids=["ctrl-c", "error"])  # fmt: skip
+def test_a_message_after_a_live_progress_bar_starts_its_own_line(tmp_path, capsys, monkeypatch,
+                                                                 stop):  # fmt: skip
+    # On a terminal the bar is redrawn with \r and no newline until the last chunk: the
+    # interruption or error line used to be glued to it.
+    from trajkit.sweep import engines
+
+    path = tmp_path / "ok.toml"
+    path.write_text(good().replace("problems = 10", "problems = 20"), encoding="utf-8")
+    real = engines.plan_chunk
+
+    def plan_chunk(spec, chunk):
+        if chunk == 2:
+            raise stop
+        return real(spec, chunk)
+
+    monkeypatch.setattr(engines, "plan_chunk", plan_chunk)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(tmp_path / "out"),
+                              "--workers", "1")  # fmt: skip
+    assert (status, stdout) == ((130, "") if stop is KeyboardInterrupt else (2, ""))
+    bar, message, end = err.split("\n")
+    assert bar.startswith("\r[#####...............] 1/4 chunks, 5 problems, ")
+    assert "\r[##########..........] 2/4 chunks, 10 problems, " in bar and bar.count("\r") == 2
+    assert message.startswith("trajkit: interrupted; " if stop is KeyboardInterrupt
+                              else "trajkit: error: disk trouble")  # fmt: skip
+    assert end == ""
+
+
+def test_a_progress_bar_closes_once_and_only_an_open_line():
+    stream = io.StringIO()
+    stream.isatty = lambda: True
+    bar = sweep.progress_bar(stream)
+    bar.close()
+    assert stream.getvalue() == ""
+    bar(1, 2, 5, 1.0)
+    bar.close()
+    bar.close()
+    assert stream.getvalue() == "\r[##########..........] 1/2 chunks, 5 problems, 5 problems/s\n"
+    bar(2, 2, 10, 1.0)
+    bar.close()
+    assert stream.getvalue().endswith("2/2 chunks, 10 problems, 10 problems/s\n")
+    assert stream.getvalue().count("\n") == 2
 
 
 # ---------------------------------------------------------------------- success

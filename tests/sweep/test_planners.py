@@ -293,3 +293,70 @@ def test_mobile_swept_limits_and_start(tmp_path):
     assert sorted({(r["vmax"], r["wmax"]) for r in table.to_pylist()}) == [
         (0.5, 1.0), (0.5, 2.0), (1.0, 1.0), (1.0, 2.0),
     ]  # fmt: skip
+
+
+WHEEL = 2.0 / 0.098  # the jackal's wheel speed limit (rad/s)
+
+
+def test_mobile_rows_keep_the_wheel_speed_limit_of_the_base(tmp_path):
+    # vmax = 3 m/s is past what the jackal's wheels allow (2 m/s): the sweep used to
+    # rebuild the limits without the wheels and call 30.6 rad/s wheels feasible.
+    data = {"sweep": {"planner": "mobile", "problems": 8, "chunk": 4, "seed": 2},
+            "robot": {"name": "jackal"}, "fixed": {"vmax": 3.0},
+            "swept": {"goal": {"uniform": [[-3.0, -3.0, -3.0], [3.0, 3.0, 3.0]]}}}  # fmt: skip
+    summary, table = planned(data, tmp_path)
+    assert summary.failed == 0 and summary.infeasible == 0
+    model = mobile.jackal()
+    goals = matrix(table, "goal", 3)
+    for i in range(8):
+        # The same call in the Python API: the base's limits with vmax replaced.
+        plan = mobile.rotate_translate_rotate(goals[i], [0.0, 0.0, 0.0], model=model, vmax=3.0)
+        report = plan.check()
+        assert report.ok
+        assert table["duration"][i].as_py() == pytest.approx(plan.duration, rel=SAME_CODE)
+        assert table["feasible"][i].as_py() is True
+        # Without the wheel limit the drive would be shorter: the limit was applied.
+        unwheeled = mobile.MobileLimits(velocity=3.0, angular_velocity=4.0, acceleration=20.0,
+                                        angular_acceleration=25.0)  # fmt: skip
+        fast = mobile.rotate_translate_rotate(goals[i], [0.0, 0.0, 0.0], model=model,
+                                              limits=unwheeled)  # fmt: skip
+        assert not fast.check(model.limits.replace(velocity=3.0)).ok
+        assert table["duration"][i].as_py() > fast.duration
+    wheels = matrix(table, "peak_wheel_speed", 2)  # the rows show the wheels, checked
+    for i in range(8):
+        plan = mobile.rotate_translate_rotate(goals[i], [0.0, 0.0, 0.0], model=model, vmax=3.0)
+        expected = np.abs(plan.check().peaks["wheel speed"]).max(axis=0)
+        np.testing.assert_allclose(wheels[i], expected, rtol=PEAKS)
+    assert wheels.max() <= WHEEL * (1 + ROUNDING_OVER)
+    assert wheels.max() >= WHEEL * (1 - 1e-12)  # the long drives run the wheels at their limit
+    np.testing.assert_array_equal(table["worst_violation"].to_numpy(), 0.0)
+
+
+def test_a_row_is_feasible_exactly_when_its_check_is_ok():
+    # A check may flag a jump where two pieces meet (an unbounded derivative, value
+    # inf) while every peak stays inside its bound: the verdict is the check's.
+    from trajkit.limits import Report, Violation
+    from trajkit.sweep.planners import _one_by_one
+
+    inside = (np.array([-0.5]), np.array([0.5]))
+    bounds = (np.array([-1.0]), np.array([1.0]))
+    jump = Violation("acceleration", 0, 0.25, np.inf, 1.0)
+    over = Violation("velocity", 0, 0.5, 1.5, 1.0)
+    reports = [
+        Report((), {"velocity": inside, "acceleration": inside},
+               {"velocity": bounds, "acceleration": bounds}),
+        Report((jump,), {"velocity": inside, "acceleration": inside},
+               {"velocity": bounds, "acceleration": bounds}),
+        Report((over,), {"velocity": (np.array([0.0]), np.array([1.5])),
+                         "acceleration": (np.array([0.0]), np.array([np.inf]))},
+               {"velocity": bounds, "acceleration": bounds}),
+    ]  # fmt: skip
+
+    class Plan:
+        duration = 1.0
+
+    result = _one_by_one(3, 1, ("velocity", "acceleration"),
+                         lambda i: (Plan(), reports[i]), None, lambda p, t: t)  # fmt: skip
+    assert result.columns["feasible"].tolist() == [True, False, False]
+    assert result.columns["worst_violation"].tolist() == [0.0, np.inf, np.inf]
+    assert result.columns["peak_acceleration_1"].tolist() == [0.5, 0.5, np.inf]

@@ -8,6 +8,7 @@ engines wrote is exactly what :meth:`SweepSpec.inputs` says.
 from __future__ import annotations
 
 import itertools
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -185,3 +186,45 @@ def test_missing_mobile_limit_names_the_sweep_key():
 def test_planner_options_below_two_are_refused_by_key(planner, option):
     with pytest.raises(sweep.SweepError, match=rf"sweep\.{option}: expected a whole number from 2"):
         sweep.parse({"sweep": {"planner": planner, option: 1}})
+
+
+def _trapezoids(**head) -> dict:
+    return {"sweep": {"planner": "trapezoid", **head}, "robot": {"joints": 2},
+            "fixed": {"qf": 1.0, "vmax": 1.0, "amax": 1.0},
+            "swept": {"q0": {"uniform": [-1.0, 1.0]}}}  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("data", "message"),
+    [
+        # A run lists every chunk: 1e10 of them took all the memory before a row.
+        (_trapezoids(problems=10**10, chunk=1),
+         r"^sweep\.chunk: 10000000000 problems in chunks of 1 make 10000000000 chunks \(files\), "
+         r"more than 1e\+06: use a larger chunk$"),
+        # One chunk's inputs: 1e9 problems of 12 numbers, 89 GiB (a MemoryError before).
+        (_trapezoids(problems=10**9, chunk=10**9),
+         r"^sweep\.chunk: 1000000000 problems of 12 numbers each take 91553 MiB of inputs per "
+         r"chunk, more than 256 MiB: use a smaller chunk$"),
+        (_trapezoids() | {"swept": {"q0": {"grid": [0.0, 1.0, 1e9]}}},
+         r"^swept\.q0\.grid: a count of 1000000000 points is more than 1e\+06$"),
+    ],
+    ids=["chunks", "chunk-memory", "grid-points"],
+)  # fmt: skip
+def test_sizes_that_cannot_run_are_refused_by_key(data, message):
+    tracemalloc.start()
+    try:
+        with pytest.raises(sweep.SweepError, match=message):
+            sweep.parse(data)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 2**24  # 16 MiB: refused before anything of that size is made
+
+
+def test_the_largest_sizes_allowed_still_parse():
+    assert sweep.parse(_trapezoids(problems=10**10)).chunks == 10**6  # the default chunk
+    spec = sweep.parse(_trapezoids(problems=2 * 10**6, chunk=2**28 // 96))
+    assert spec.chunk == 2796202  # 12 numbers of 8 bytes: 256 MiB per chunk
+    assert sweep.parse(_trapezoids() | {"swept": {"q0": {"grid": [0, 1, 10**6]}}}).problems == (
+        10**6
+    )

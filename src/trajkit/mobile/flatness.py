@@ -57,6 +57,13 @@ _NEAR_STOP = 1e-4  # near a stop and below this fraction of the peak speed, use 
 _SERIES_TERMS = 12  # derivatives of the output in the series at a stop
 _ONE_SIDED = 1e-13  # the series at a stop is taken this fraction of the span inside
 _INWARD = 1e-7  # directions of travel around a stop are read this fraction of the span away
+# A figure eight's slowest speed (at its turns) is about 2 min(W, H) / max(W, H) of its
+# peak: past this ratio it nears the stop threshold, where the heading is ill-conditioned.
+_MAX_ASPECT = 1e6
+# The twist of a flat output multiplies up to four of its derivatives (|ṗ|⁴ divides
+# dω/dt): beyond this magnitude such products overflow float64 (or vanish below its
+# reciprocal), and the result would be inf or NaN.
+_LARGEST = 1e60
 
 
 class FlatOutput(ABC):
@@ -109,6 +116,25 @@ class FigureEight(FlatOutput):
         if middle.shape != (2,):
             raise InvalidInputError(f"center must be (x, y) in m, got shape {middle.shape}")
         self.center = np.array(middle)
+        size = f"width {self.width:g} m and height {self.height:g} m"
+        if max(self.width, self.height) > _MAX_ASPECT * min(self.width, self.height):
+            raise InvalidInputError(
+                f"{size}: one may be at most {_MAX_ASPECT:g} times the other (a flatter "
+                "figure eight all but stops at its turns, where its heading is undefined)"
+            )
+        # Checked on the parameters, before any sampling: the peak of the k-th
+        # derivative is w^k sqrt((W/2)^2 + (2^k H/2)^2), for the orders flatness uses.
+        w = 2.0 * np.pi / self.period
+        with np.errstate(over="ignore", under="ignore"):
+            orders = np.arange(1, _SERIES_TERMS + 1, dtype=float)
+            peaks = w**orders * np.hypot(self.width / 2.0, 2.0**orders * self.height / 2.0)
+        if not (np.all(peaks <= _LARGEST) and peaks[0] >= 1.0 / _LARGEST):
+            raise InvalidInputError(
+                f"a figure eight of {size} and period {self.period:g} s moves too fast or too "
+                f"slowly for float arithmetic (its peak speed is {peaks[0]:.3g} m/s; derivatives "
+                f"up to order {_SERIES_TERMS} must stay within {1.0 / _LARGEST:g} to "
+                f"{_LARGEST:g}): change the size or the period"
+            )
 
     @property
     def duration(self) -> float:  # noqa: D102
@@ -406,8 +432,14 @@ class _StopSeries:
 def _stops(output: FlatOutput) -> tuple[list[float], float]:
     """Interior times where the output's speed vanishes, and its peak speed (m/s)."""
     grid = np.union1d(np.linspace(0.0, output.duration, 4 * _GRID), output.breakpoints)
-    speed = np.linalg.norm(output.evaluate(grid, 1), axis=1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        speed = np.linalg.norm(output.evaluate(grid, 1), axis=1)
     peak = float(speed.max())
+    if not (np.all(np.isfinite(speed)) and peak <= _LARGEST):
+        raise InvalidInputError(
+            f"the flat output's speed reaches {peak:.3g} m/s: beyond {_LARGEST:g} m/s its "
+            "twist cannot be computed in float arithmetic"
+        )
     if peak == 0.0:
         raise InfeasibleError("the flat output never moves: a unicycle's heading is undefined")
     lows = np.flatnonzero(

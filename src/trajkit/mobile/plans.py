@@ -28,7 +28,19 @@ from trajkit.mobile.trajectory import (
 from trajkit.profiles import scurve, trapezoidal
 from trajkit.trajectory import Trajectory
 
-__all__ = ["constant_twist", "phase_law", "phase_limits", "plan_phase", "rotate_translate_rotate"]
+__all__ = [
+    "MAX_TRAVEL",
+    "constant_twist",
+    "phase_law",
+    "phase_limits",
+    "plan_phase",
+    "rotate_translate_rotate",
+]
+
+#: The longest distance (m) or turn (rad) one plan covers, some 2.6 times the distance to
+#: the Moon: beyond it a plan's times (distance / speed) grow so large that float64 loses
+#: the motion within them, and past float range its poses would be inf.
+MAX_TRAVEL = 1e9
 
 Profile = Literal["trapezoid", "scurve"]
 
@@ -77,7 +89,18 @@ def constant_twist(
     turn_rate = finite_scalar("omega", omega, unit="rad/s")
     seconds = positive_scalar("duration", duration, unit="s")
     rate = None if rate_hz is None else positive_scalar("rate_hz", rate_hz, unit="Hz")
-    arc = Arc(pose_array("start", start), speed, turn_rate, seconds)
+    origin = pose_array("start", start)
+    # Past float range the arc's end pose is inf or NaN: refused, never returned.
+    with np.errstate(over="ignore", invalid="ignore"):
+        distance, turned = abs(speed) * seconds, turn_rate * seconds
+    for what, amount, unit in (("distance v * duration", distance, "m"),
+                               ("turn omega * duration", turned, "rad")):  # fmt: skip
+        if not abs(amount) <= MAX_TRAVEL:
+            raise InvalidInputError(
+                f"the {what} is {amount:.3g} {unit} (v={speed:g} m/s, omega={turn_rate:g} rad/s, "
+                f"duration={seconds:g} s); at most {MAX_TRAVEL:g} {unit} are planned"
+            )
+    arc = Arc(origin, speed, turn_rate, seconds)
     radius = np.inf if turn_rate == 0.0 else abs(speed / turn_rate)
     info = {
         "plan": "constant_twist",
@@ -308,8 +331,15 @@ def rotate_translate_rotate(
     if angular_jmax is not None:
         wj = positive_scalar("angular_jmax", angular_jmax, unit="rad/s^3")
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
-    dx, dy = target[0] - origin[0], target[1] - origin[1]
-    distance = float(np.hypot(dx, dy))
+    with np.errstate(over="ignore", invalid="ignore"):
+        dx, dy = target[0] - origin[0], target[1] - origin[1]
+        distance = float(np.hypot(dx, dy))
+    if not distance <= MAX_TRAVEL:
+        raise InvalidInputError(
+            f"goal {tuple(float(g) for g in target[:2])} is {distance:.3g} m from start "
+            f"{tuple(float(g) for g in origin[:2])}; at most {MAX_TRAVEL:g} m are planned "
+            "(farther, a phase lasts so long that float64 times lose its motion)"
+        )
     plan: list[tuple[str, str, float]] = []  # (kind, label, signed amount)
     facing = float(origin[2])
     scale = max(1.0, float(np.abs(target[:2]).max()), float(np.abs(origin[:2]).max()))

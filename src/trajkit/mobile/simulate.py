@@ -30,6 +30,7 @@ from trajkit.mobile.models import (
     rk4_step,
     wrap_angle,
 )
+from trajkit.mobile.plans import MAX_TRAVEL
 from trajkit.mobile.trajectory import MobileState, MobileTrajectory, command_count
 from trajkit.trajectory import sample_times
 
@@ -230,6 +231,13 @@ def simulate(
         given = finite_array("initial_pose", initial_pose)
         # A position alone starts with the plan's heading.
         start = pose_array("initial_pose", [*given, start[2]] if given.shape == (2,) else given)
+        with np.errstate(over="ignore", invalid="ignore"):
+            away = float(np.hypot(*(start[:2] - plan.start_pose[:2])))
+        # Farther, the tracking errors overflow (and the path search finds no vertex).
+        if not away <= MAX_TRAVEL:
+            raise InvalidInputError(
+                f"initial_pose is {away:.3g} m from the plan's start; at most {MAX_TRAVEL:g} m"
+            )
     robot = plan.model if model is None else resolve_model(model)
     if limits is None:
         limits = plan.limits if model is None else robot.limits

@@ -8,6 +8,7 @@ Every plan in :mod:`trajkit.mobile` returns one.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
@@ -131,13 +132,28 @@ class Segment(ABC):
 
 
 def _law_extrema(law: Trajectory, order: int, factor: float) -> tuple[float, float, float, float]:
-    """Extrema of ``factor * law^(order)``, exact from the law's polynomial pieces."""
+    """Extrema of ``factor * law^(order)``, exact from the law's polynomial pieces.
+
+    Where a lower derivative of the law jumps between its pieces, the quantity is
+    unbounded: ``±inf`` at the first such breakpoint (as :func:`trajkit.check`).
+    """
     if factor == 0.0:
         return 0.0, 0.0, 0.0, 0.0
     found = law.extrema(order)
     low, t_low = float(found.minimum[0]) * factor, float(found.time_of_minimum[0])
     high, t_high = float(found.maximum[0]) * factor, float(found.time_of_maximum[0])
-    return (low, t_low, high, t_high) if factor > 0 else (high, t_high, low, t_low)
+    if factor < 0:
+        low, t_low, high, t_high = high, t_high, low, t_low
+    times = law.breakpoints[1:-1]
+    for k in range(order):
+        jumps = law.jumps(k)[:, 0] * factor
+        # The next derivative of a step has the step's sign; higher ones both.
+        up, down = (jumps > 0, jumps < 0) if k == order - 1 else (jumps != 0, jumps != 0)
+        if up.any() and (high != np.inf or times[np.argmax(up)] < t_high):
+            high, t_high = np.inf, float(times[np.argmax(up)])
+        if down.any() and (low != -np.inf or times[np.argmax(down)] < t_low):
+            low, t_low = -np.inf, float(times[np.argmax(down)])
+    return low, t_low, high, t_high
 
 
 class _LawSegment(Segment):
@@ -400,7 +416,11 @@ class MobileTrajectory:
             polynomial laws); flat-output curves from a dense grid refined to
             about 1e-12 s by bounded scalar search (see :mod:`trajkit.mobile.flatness`).
             Where two segments meet with different twists (a curve into a turn
-            at a stop, say) the acceleration is unbounded: ``±inf`` at that time.
+            at a stop, say) the acceleration is unbounded: ``±inf`` at that time;
+            so is it where a turn's or a drive's time law has a velocity step
+            between its pieces (and the twist itself where the law's position
+            steps), as :func:`trajkit.check` reports jumps. Such a violation's
+            ``cause`` says so.
             The plan's first and last twists are its boundary states and are not
             compared with rest.
         """
@@ -420,7 +440,12 @@ class MobileTrajectory:
             peaks[quantity] = (found.minimum, found.maximum)
             bounds[quantity] = (lower, upper)
             channels[quantity] = names
-            violations += compare(quantity, found, lower, upper, tolerance, names)
+            for violation in compare(quantity, found, lower, upper, tolerance, names):
+                if np.isinf(violation.value):
+                    lower_order = "pose" if order == 1 else "twist"
+                    cause = f"the {lower_order} jumps there (a segment junction or a law's step)"
+                    violation = dataclasses.replace(violation, cause=cause)
+                violations.append(violation)
         return Report(tuple(violations), peaks, bounds, channels)
 
     def _extrema(self, order: int, weights: list[tuple[str, float, float]]) -> Extrema:

@@ -34,9 +34,19 @@ class PhasePlan:
         Acceleration at the start of each phase.
     jerks : ndarray, shape (..., ndof, P)
         Constant jerk within each phase.
+    end_position, end_velocity : ndarray, shape (..., ndof), optional
+        The state the phases are planned to reach (the problem's ``qf``, ``vf``):
+        where given, each joint coasts on from exactly it and a trajectory made
+        from the plan ends in exactly it, not in the rounding of the phase sums.
+    end_acceleration : ndarray, shape (..., ndof), optional
+        The same for the acceleration, for plans whose phases end at a known one
+        (an S-curve's end at zero acceleration).
     """
 
-    __slots__ = ("accelerations", "durations", "jerks", "position", "velocity")
+    __slots__ = (
+        "accelerations", "durations", "end_acceleration", "end_position", "end_velocity",
+        "jerks", "position", "velocity",
+    )  # fmt: skip
 
     def __init__(
         self,
@@ -45,12 +55,18 @@ class PhasePlan:
         durations: FloatArray,
         accelerations: FloatArray,
         jerks: FloatArray,
+        end_position: FloatArray | None = None,
+        end_velocity: FloatArray | None = None,
+        end_acceleration: FloatArray | None = None,
     ) -> None:
         self.position = position
         self.velocity = velocity
         self.durations = durations
         self.accelerations = accelerations
         self.jerks = jerks
+        self.end_position = end_position
+        self.end_velocity = end_velocity
+        self.end_acceleration = end_acceleration
 
     @property
     def joint_durations(self) -> FloatArray:
@@ -103,6 +119,8 @@ def plan_info(
     joint = int(limiting)
     return {
         "planner": planner,
+        # A trapezoid's acceleration jumps at its switches, an S-curve's jerk.
+        "continuity": 1 if planner == "trapezoidal" else 2,
         "sync": sync,
         "dt": dt,
         "duration": float(duration),
@@ -117,7 +135,9 @@ def plan_to_trajectory(plan: PhasePlan, duration: float, info: dict[str, object]
     """One Trajectory holding every joint's phases (a single problem: no leading axes).
 
     Joints whose phases end before ``duration`` continue at their final velocity
-    with zero acceleration (at rest, if they end at rest).
+    with zero acceleration (at rest, if they end at rest). With the plan's
+    ``end_position`` and ``end_velocity`` the coast starts from exactly them and the
+    trajectory's exact end state is theirs (see :class:`~trajkit.Trajectory`).
     """
     t_start, p_start, v_start = phase_states(plan)
     ndof, count = plan.durations.shape
@@ -135,6 +155,32 @@ def plan_to_trajectory(plan: PhasePlan, duration: float, info: dict[str, object]
         + plan.accelerations[:, -1] * d_last**2 / 2.0
         + plan.jerks[:, -1] * d_last**3 / 6.0
     )
+    end_state = None
+    if plan.end_position is not None and plan.end_velocity is not None:
+        target_p = np.broadcast_to(plan.end_position, final_p.shape)
+        target_v = np.broadcast_to(plan.end_velocity, final_v.shape)
+        # Only where the phases do reach the target (up to rounding); anything else
+        # is a planning defect this conversion must not paper over.
+        d, a, j = plan.durations, plan.accelerations, plan.jerks
+        # The size of the terms summed: what the rounding of the sums scales with.
+        v_terms = np.abs(v_start).max(axis=1) + (np.abs(a * d) + np.abs(j * d**2 / 2)).sum(axis=1)
+        p_terms = np.abs(p_start).max(axis=1) + (
+            np.abs(v_start * d) + np.abs(a * d**2 / 2) + np.abs(j * d**3 / 6)
+        ).sum(axis=1)
+        reached = _close(final_p, target_p, p_terms) & _close(final_v, target_v, v_terms)
+        final_p = np.where(reached, target_p, final_p)
+        final_v = np.where(reached, target_v, final_v)
+        # A joint that arrives early and coasts on at a speed is elsewhere at the end.
+        coasting = (ends < duration * (1.0 - 4.0 * _MERGE)) & (final_v != 0.0)
+        rows = [np.where(reached & ~coasting, final_p, np.nan), np.where(reached, final_v, np.nan)]
+        if plan.end_acceleration is not None:
+            final_a = plan.accelerations[:, -1] + plan.jerks[:, -1] * d_last
+            target_a = np.broadcast_to(plan.end_acceleration, final_a.shape)
+            a_terms = np.abs(a).max(axis=1) + np.abs(j * d).sum(axis=1)
+            # An early joint coasts at zero acceleration: the polynomial's 0 is exact.
+            good = reached & _close(final_a, target_a, a_terms)
+            rows.append(np.where(good, target_a, np.nan))
+        end_state = np.stack(rows)
     starts = np.concatenate([t_start, ends[:, np.newaxis]], axis=1)
     p0 = np.concatenate([p_start, final_p[:, np.newaxis]], axis=1)
     v0 = np.concatenate([v_start, final_v[:, np.newaxis]], axis=1)
@@ -156,4 +202,11 @@ def plan_to_trajectory(plan: PhasePlan, duration: float, info: dict[str, object]
     vel = v0[rows, index] + a0[rows, index] * x + jerk * x**2 / 2.0
     pos = p0[rows, index] + v0[rows, index] * x + a0[rows, index] * x**2 / 2.0 + jerk * x**3 / 6.0
     coefficients = np.stack([jerk / 6.0, acc / 2.0, vel, pos]).transpose(0, 2, 1)
-    return Trajectory(breakpoints, coefficients, info=info)
+    if duration == 0.0:
+        end_state = None  # a standstill: its one value is its start
+    return Trajectory(breakpoints, coefficients, info=info, end=end_state)
+
+
+def _close(value: FloatArray, target: FloatArray, scale: FloatArray) -> FloatArray:
+    """``value`` equals ``target`` up to the rounding of sums of terms of size ``scale``."""
+    return np.abs(value - target) <= 1e-9 * (1.0 + np.abs(target) + scale)

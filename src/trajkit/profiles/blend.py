@@ -16,6 +16,7 @@ blends last as long as its own velocity change needs.
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg
 from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, finite_array, positive_joint_vector
@@ -26,6 +27,10 @@ from trajkit.trajectory import Trajectory
 __all__ = ["blended"]
 
 _ITERATIONS = 200  # fixed-point passes when searching segment durations
+_NEWTON = 60  # Newton steps when placing pseudo via points at fixed durations
+_LENGTHEN = 100  # schedules through=True tries, each longer than the last, before giving up
+_SHORTEST = 1e-9  # s: a segment without motion still needs some time to be a segment
+_SLACK = 1e-12  # relative: rounding allowed in every feasibility comparison
 
 
 def _change_time(dv: FloatArray, amax: FloatArray, jmax: FloatArray | None) -> FloatArray:
@@ -44,37 +49,114 @@ def _fastest_change(T: FloatArray, amax: FloatArray, jmax: FloatArray | None) ->
     return np.where(T >= 2 * amax / jmax, amax * (T - amax / jmax), jmax * (T / 2) ** 2)
 
 
+def _ramp_and_hold(
+    size: FloatArray, amax: FloatArray, jmax: FloatArray | None
+) -> tuple[FloatArray, FloatArray]:
+    """Jerk ramp time and acceleration hold time (s) of a velocity change of ``size``."""
+    if jmax is None:
+        return np.zeros_like(size), size / amax
+    saturated = size >= amax**2 / jmax
+    ramp = np.where(saturated, amax / jmax, np.sqrt(size / jmax))
+    hold = np.where(saturated, size / amax - amax / jmax, 0.0)
+    return ramp, hold
+
+
+def _corner(
+    dv: FloatArray, amax: FloatArray, jmax: FloatArray | None
+) -> tuple[FloatArray, FloatArray]:
+    """Where an interior blend passes its waypoint (rad), and the rate of that in ``dv`` (s).
+
+    A blend centred on the waypoint's time leaves the incoming line half a blend
+    before it, so at the waypoint's time it is ahead of the line by the integral
+    of the velocity change over its first half: with ramp ``r`` and hold ``h``
+    (peak acceleration ``|dv| / (r + h)``) that is
+    ``dv (r^2/6 + r h/4 + h^2/8) / (r + h)`` (``dv |dv| / (8 amax)`` for a
+    parabolic blend); its derivative in ``dv`` is ``(r + h) / 4``.
+    """
+    size = np.abs(dv)
+    ramp, hold = _ramp_and_hold(size, amax, jmax)
+    width = ramp + hold
+    shape = ramp**2 / 6.0 + ramp * hold / 4.0 + hold**2 / 8.0
+    safe = np.where(width > 0.0, width, 1.0)
+    return np.where(width > 0.0, dv * shape / safe, 0.0), width / 4.0
+
+
+def _end_speed(
+    d: FloatArray, T: FloatArray, amax: FloatArray, jmax: FloatArray | None
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Speed of an end segment, whether it fits, and the rate of its step in the speed.
+
+    The segment starts at rest with a blend lying inside it, then runs on the
+    line that passes ``d >= 0`` past its start at its end time ``T``:
+    ``d = v (T - tb(v) / 2)``. On ``tb(v) <= T`` the right side rises with ``v``
+    (its derivative ``T - tb + r / 2``, ``r`` the ramp time, is positive), so
+    there is one such ``v`` when ``d`` is at most its value at ``tb = T``.
+    Elsewhere (the segment is too short) the speed is the largest change that
+    fits, and ``fits`` is False.
+    """
+    high = _fastest_change(T, amax, jmax)
+    reach = high * (T - _change_time(high, amax, jmax) / 2.0)
+    fits = reach >= d * (1.0 - _SLACK)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if jmax is None:
+            # d = v T - v^2 / (2 amax); the smaller root, written without cancellation.
+            speed = 2.0 * d / (T + np.sqrt(np.maximum(T**2 - 2.0 * d / amax, 0.0)))
+        else:
+            b = amax / jmax
+            edge = amax * b  # the smallest change that saturates the acceleration
+            # Saturated: d = v T - v^2 / (2 amax) - v b / 2, again a quadratic.
+            rest = T - b / 2.0
+            saturated = 2.0 * d / (rest + np.sqrt(np.maximum(rest**2 - 2.0 * d / amax, 0.0)))
+            # Below: d = v T - v^1.5 / sqrt(jmax). The right side is concave, so Newton
+            # from the left climbs to the root without overshooting; at tb <= T its
+            # slope stays >= T / 4, so the convergence is quadratic.
+            use_saturated = (high >= edge) & (d >= edge * (T - b))
+            below = fits & ~use_saturated
+            speed = d / T
+            for _ in range(50):
+                root = np.sqrt(speed / jmax)
+                step = (d - speed * (T - root)) / np.maximum(T - 1.5 * root, T / 4.0)
+                speed = speed + step
+                if np.all(np.abs(step[below]) <= 1e-16 * speed[below]):
+                    break
+            speed = np.where(use_saturated, saturated, speed)
+        speed = np.where(fits, np.minimum(speed, high), high)
+    speed = np.where(d > 0.0, speed, 0.0)
+    ramp, _ = _ramp_and_hold(speed, amax, jmax)
+    rate = T - _change_time(speed, amax, jmax) + ramp / 2.0
+    return speed, fits, rate
+
+
 def _velocities(
     q: FloatArray, durations: FloatArray, amax: FloatArray, jmax: FloatArray | None
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Segment velocities (n - 1, ndof), blend times (n, ndof), end feasibility (2, ndof).
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Segment velocities (n - 1, ndof), blend times (n, ndof), end fit (2, ndof), rates.
 
     Interior segments: ``v = dq / T``. The first and last blends start (end) at
-    rest inside their segment, so there ``|dq| = |v| (T - tb(|v|) / 2)``. On
-    ``0 <= |v| <= v_hi`` (the largest change that fits in ``T``) the right side
-    increases, so bisection finds ``|v|``; when even ``v_hi`` falls short of
-    ``|dq|`` the segment is too short (feasibility False).
+    rest inside their segment (see :func:`_end_speed`). With two waypoints the
+    start and the stop share the one segment: by symmetry each half of it covers
+    half the step in half the time, so that is the end problem with ``dq / 2``
+    and ``T / 2``. ``rates`` is ``dv / d(dq)`` of each segment (for
+    :func:`_pseudo_waypoints`): ``1 / T`` inside, ``1 / (dq / dv)`` at the ends.
     """
     dq = np.diff(q, axis=0)
     T = durations[:, np.newaxis]
     v = dq / T
-    feasible = np.ones((2, q.shape[1]), bool)
-    for row, end in enumerate((0, -1)):
-        d, t = np.abs(dq[end]), T[end]
-        high = _fastest_change(t, amax, jmax)
-        covered_high = high * (t - _change_time(high, amax, jmax) / 2.0)
-        feasible[row] = covered_high >= d * (1 - 1e-12)
-        low = np.zeros_like(d)
-        for _ in range(100):
-            mid = 0.5 * (low + high)
-            covered = mid * (t - _change_time(mid, amax, jmax) / 2.0)
-            above = covered >= d
-            high = np.where(above, mid, high)
-            low = np.where(above, low, mid)
-        v[end] = np.sign(dq[end]) * high
+    rates = np.broadcast_to(1.0 / T, dq.shape).copy()
+    fits = np.ones((2, q.shape[1]), bool)
+    if q.shape[0] == 2:
+        speed, fits[:], _ = _end_speed(np.abs(dq[0]) / 2.0, T[0] / 2.0, amax, jmax)
+        v[0] = np.sign(dq[0]) * speed
+    else:
+        for row, end in enumerate((0, -1)):
+            speed, fits[row], rate = _end_speed(np.abs(dq[end]), T[end], amax, jmax)
+            v[end] = np.sign(dq[end]) * speed
+            # The rate vanishes where the blend fills the segment (parabolic, tb = T).
+            with np.errstate(divide="ignore"):
+                rates[end] = np.where(fits[row], 1.0 / np.maximum(rate, _SLACK * T[end]), 0.0)
     padded = np.concatenate([np.zeros((1, q.shape[1])), v, np.zeros((1, q.shape[1]))])
     blends = _change_time(np.diff(padded, axis=0), amax, jmax)
-    return v, blends, feasible
+    return v, blends, fits, rates
 
 
 def _room(durations: FloatArray, blends: FloatArray) -> FloatArray:
@@ -82,6 +164,221 @@ def _room(durations: FloatArray, blends: FloatArray) -> FloatArray:
     share = blends.copy()
     share[1:-1] /= 2.0  # interior blends straddle their waypoint; end blends lie inside
     return durations[:, np.newaxis] - share[:-1] - share[1:]
+
+
+def _end_minimum(
+    d: FloatArray, vmax: FloatArray, amax: FloatArray, jmax: FloatArray | None
+) -> FloatArray:
+    """Shortest end segment (s) for a step ``d >= 0``: it starts at rest, ends on its line.
+
+    ``T(v) = d / v + tb(v) / 2`` falls with ``v`` until the blend fills the
+    segment (``tb(v) v = 2 d``), which is the fastest start; the velocity limit
+    may stop it sooner.
+    """
+    if jmax is None:
+        top = np.sqrt(2.0 * amax * d)
+    else:
+        b = amax / jmax
+        unsaturated = np.cbrt(d) ** 2 * np.cbrt(jmax)  # 2 v sqrt(v / jmax) = 2 d
+        saturated = 4.0 * d / (b + np.sqrt(b**2 + 8.0 * d / amax))  # (v / amax + b) v = 2 d
+        top = np.where(unsaturated < amax * b, unsaturated, saturated)
+    speed = np.minimum(vmax, top)
+    safe = np.where(d > 0.0, speed, 1.0)
+    return np.where(d > 0.0, d / safe + _change_time(speed, amax, jmax) / 2.0, 0.0)
+
+
+def _own_minimum(
+    q: FloatArray, vmax: FloatArray, amax: FloatArray, jmax: FloatArray | None
+) -> FloatArray:
+    """Shortest duration (s) of every segment alone, shape (n - 1,).
+
+    Its velocity limit and, at the ends, its start or stop; not the blends it
+    shares with its neighbours.
+    """
+    dq = np.abs(np.diff(q, axis=0))
+    own = np.max(dq / vmax, axis=1)
+    if q.shape[0] == 2:
+        own[0] = max(own[0], 2.0 * np.max(_end_minimum(dq[0] / 2.0, vmax, amax, jmax)))
+    else:
+        for end in (0, -1):
+            own[end] = max(own[end], np.max(_end_minimum(dq[end], vmax, amax, jmax)))
+    return own
+
+
+def _schedule(
+    q: FloatArray,
+    v_limit: FloatArray,
+    a_limit: FloatArray,
+    j_limit: FloatArray | None,
+    start: FloatArray | None = None,
+) -> FloatArray:
+    """The shortest segment durations the iteration reaches, none below ``start``.
+
+    Every segment starts at its own minimum (:func:`_own_minimum`), which keeps
+    its velocity limit and, at the ends, its start or stop; lengthening a segment
+    keeps both. The passes then lengthen the segments whose blends do not fit.
+    """
+    T = np.maximum(_own_minimum(q, v_limit, a_limit, j_limit), _SHORTEST)
+    if start is not None:
+        T = np.maximum(T, start)
+    for _ in range(_ITERATIONS):
+        _, blends, _, _ = _velocities(q, T, a_limit, j_limit)
+        share = blends.copy()
+        share[1:-1] /= 2.0
+        need = np.max(share[:-1] + share[1:], axis=1)
+        if np.all(need <= T * (1 + 1e-13)):
+            break
+        T = np.maximum(T, need)
+    else:
+        raise InfeasibleError("could not find segment durations that keep the limits")
+    return T
+
+
+def _shortfall(
+    q: FloatArray,
+    T: FloatArray,
+    v_limit: FloatArray,
+    a_limit: FloatArray,
+    j_limit: FloatArray | None,
+) -> str | None:
+    """Why the durations ``T`` do not fit the limits (naming a segment), or None.
+
+    A segment shorter than it needs alone is the one to blame, even when a huge
+    blend it causes eats a neighbour's time first; only when every segment is
+    long enough alone is the blame on the first one whose blends overlap.
+    """
+    own = _own_minimum(q, v_limit, a_limit, j_limit)
+    v, blends, fits, _ = _velocities(q, T, a_limit, j_limit)
+    # Both follow from T >= own; checked again so rounding cannot slip through.
+    alone = T < own * (1 - _SLACK)
+    alone |= (np.abs(v) > v_limit * (1 + _SLACK)).any(axis=1)
+    alone[0] |= not fits[0].all()
+    alone[-1] |= not fits[1].all()
+    if alone.any():
+        k = int(np.flatnonzero(alone)[0])
+        return (
+            f"durations[{k}] = {T[k]:.6g} s is too short for the limits "
+            f"(segment {k} alone needs at least {own[k]:.6g} s)"
+        )
+    room = _room(T, blends)
+    overlap = (room < -_SLACK * T[:, np.newaxis]).any(axis=1)
+    if overlap.any():
+        k = int(np.flatnonzero(overlap)[0])
+        need = float(np.max(T[k] - room[k]))
+        return (
+            f"durations[{k}] = {T[k]:.6g} s is too short for the limits: the blends at "
+            f"waypoints {k} and {k + 1} need {need:.6g} s of it"
+        )
+    return None
+
+
+def _pseudo_waypoints(
+    q: FloatArray, T: FloatArray, a_limit: FloatArray, j_limit: FloatArray | None
+) -> tuple[FloatArray, bool]:
+    """Pseudo waypoints whose blends pass every interior waypoint at its time.
+
+    For fixed durations each joint is its own problem: interior pseudo points
+    ``p`` with ``p_i + corner(v_i - v_(i-1)) = q_i`` (:func:`_corner`), the
+    velocities following from ``p`` (:func:`_velocities`). Its Jacobian is
+    tridiagonal; Newton's method with a halving line search solves it. (Moving
+    each point by its miss alone diverges once the blends take most of their
+    segments: the rate of the miss in ``p`` then exceeds 1.) Returns the points
+    and whether every joint converged; the caller checks the limits.
+    """
+    ndof = q.shape[1]
+    pseudo = q.copy()
+    tolerance = 1e-12 * float(np.max(np.abs(q)))
+    converged = True
+    for joint in range(ndof):
+        a = a_limit[joint : joint + 1]
+        j = None if j_limit is None else j_limit[joint : joint + 1]
+        target = q[1:-1, joint]
+
+        x = q[:, joint : joint + 1].copy()
+        miss, banded = _through_system(x, target, T, a, j)
+        worst = float(np.max(np.abs(miss)))
+        for _ in range(_NEWTON):
+            if worst <= tolerance:
+                break
+            try:
+                step = scipy.linalg.solve_banded((1, 1), banded, -miss)
+            except (np.linalg.LinAlgError, ValueError):
+                break  # singular: no Newton step; the caller lengthens the durations
+            if not np.all(np.isfinite(step)):
+                break
+            fraction = 1.0
+            for _ in range(40):
+                trial = x.copy()
+                trial[1:-1, 0] += fraction * step
+                trial_miss, trial_banded = _through_system(trial, target, T, a, j)
+                trial_worst = float(np.max(np.abs(trial_miss)))
+                if trial_worst < worst:
+                    break
+                fraction /= 2.0
+            else:
+                break
+            x, miss, banded, worst = trial, trial_miss, trial_banded, trial_worst
+        converged &= worst <= tolerance
+        pseudo[:, joint] = x[:, 0]
+    return pseudo, converged
+
+
+def _through_system(
+    x: FloatArray, target: FloatArray, T: FloatArray, amax: FloatArray, jmax: FloatArray | None
+) -> tuple[FloatArray, FloatArray]:
+    """Miss of one joint's blends at its interior waypoints, and its banded Jacobian.
+
+    ``x`` (n, 1) are the joint's (pseudo) waypoints, ``target`` (n - 2,) the real
+    interior ones. With ``w`` the segment rates and ``s`` the corner slopes, row
+    ``i`` of the Jacobian is ``s_i w_(i-1)``, ``1 - s_i (w_(i-1) + w_i)``,
+    ``s_i w_i``, stored as :func:`scipy.linalg.solve_banded` wants it.
+    """
+    v, _, _, rates = _velocities(x, T, amax, jmax)
+    corner, s = _corner(np.diff(v[:, 0]), amax, jmax)
+    w = rates[:, 0]
+    banded = np.zeros((3, target.size))
+    banded[0, 1:] = (s * w[1:])[:-1]
+    banded[1] = 1.0 - s * (w[:-1] + w[1:])
+    banded[2, :-1] = (s * w[:-1])[1:]
+    return x[1:-1, 0] + corner - target, banded
+
+
+def _pass_through(
+    q: FloatArray,
+    T: FloatArray,
+    v_limit: FloatArray,
+    a_limit: FloatArray,
+    j_limit: FloatArray | None,
+    fixed: bool,
+) -> tuple[FloatArray, FloatArray]:
+    """Pseudo waypoints and durations with which the plan passes every waypoint.
+
+    With ``fixed`` durations only the points move. Otherwise the durations only
+    grow, so the search cannot oscillate (re-planning the shortest schedule for
+    every new set of points did): when the points found need longer segments,
+    the next try uses the shortest schedule that fits them, starting from the
+    current one; when they fit but the points could not be placed, every
+    segment grows by 10 %.
+    """
+    for _ in range(_LENGTHEN):
+        pseudo, converged = _pseudo_waypoints(q, T, a_limit, j_limit)
+        problem = _shortfall(pseudo, T, v_limit, a_limit, j_limit) if converged else None
+        if converged and problem is None:
+            return pseudo, T
+        if fixed:
+            reason = (
+                f"with them {problem}" if problem else "no such points exist for these durations"
+            )
+            raise InfeasibleError(
+                "could not place pseudo via points so the motion passes through every "
+                f"waypoint within the limits ({reason}); give longer durations"
+            )
+        longer = _schedule(pseudo, v_limit, a_limit, j_limit, start=T)
+        T = longer if np.any(longer > T * (1 + 1e-9)) else 1.1 * T
+    raise InfeasibleError(
+        "could not place pseudo via points so the motion passes through every waypoint "
+        "within the limits; give durations"
+    )
 
 
 def blended(
@@ -152,26 +449,24 @@ def blended(
             )
         if np.any(given <= 0):
             raise InvalidInputError("durations must all be > 0 s")
-    targets = q
-    for _ in range(60 if through and n > 2 else 1):
-        segment_durations = _schedule(targets, v_limit, a_limit, j_limit, given)
-        trajectory, details = _build(targets, segment_durations, a_limit, j_limit)
-        if not (through and n > 2):
-            break
-        miss = details["via_position"][1:-1] - q[1:-1]
-        if np.max(np.abs(miss)) <= 1e-12 * max(1.0, float(np.max(np.abs(q)))):
-            break
-        targets = targets.copy()
-        targets[1:-1] -= miss
+    if given is None:
+        segment_durations = _schedule(q, v_limit, a_limit, j_limit)
     else:
-        raise InfeasibleError(
-            "could not place pseudo via points so the motion passes through every waypoint "
-            "within the limits; give longer durations"
+        problem = _shortfall(q, given, v_limit, a_limit, j_limit)
+        if problem is not None:
+            raise InfeasibleError(problem)
+        segment_durations = given
+    targets = q
+    if through and n > 2:
+        targets, segment_durations = _pass_through(
+            q, segment_durations, v_limit, a_limit, j_limit, fixed=given is not None
         )
-    _verify_limits(trajectory, details, v_limit, a_limit)
+    trajectory, details = _build(targets, segment_durations, a_limit, j_limit)
+    _verify(trajectory, details, q, through and n > 2, v_limit, a_limit)
     deviation = details["via_position"] - q
     info = {
         "planner": "blended",
+        "continuity": 1 if j_limit is None else 2,
         "jerk_limited": j_limit is not None,
         "through": through,
         "times": tuple(float(x) for x in details["times"]),
@@ -185,58 +480,12 @@ def blended(
     return Trajectory(trajectory.breakpoints, trajectory.coefficients, info=info)
 
 
-def _schedule(
-    q: FloatArray,
-    v_limit: FloatArray,
-    a_limit: FloatArray,
-    j_limit: FloatArray | None,
-    given: FloatArray | None,
-) -> FloatArray:
-    """Segment durations: the given ones (checked) or the shortest the iteration reaches."""
-    dq = np.abs(np.diff(q, axis=0))
-    if given is not None:
-        v, blends, ends = _velocities(q, given, a_limit, j_limit)
-        room = _room(given, blends)
-        short = (np.abs(v) > v_limit * (1 + 1e-12)).any(axis=1)
-        short |= (room < -1e-12 * given[:, np.newaxis]).any(axis=1)
-        short[0] |= not ends[0].all()
-        short[-1] |= not ends[1].all()
-        if short.any():
-            bad = int(np.flatnonzero(short)[0])
-            alone = _schedule(q[bad : bad + 2], v_limit, a_limit, j_limit, None)[0]
-            raise InfeasibleError(
-                f"durations[{bad}] = {given[bad]:.6g} s is too short for the limits "
-                f"(segment {bad} alone needs at least {alone:.6g} s)"
-            )
-        return given
-    # Start from the velocity limit alone, then lengthen what the blends need.
-    T = np.max(dq / v_limit, axis=1)
-    T = np.maximum(T, 1e-9)
-    for _ in range(_ITERATIONS):
-        v, blends, ends = _velocities(q, T, a_limit, j_limit)
-        share = blends.copy()
-        share[1:-1] /= 2.0
-        need = np.max(share[:-1] + share[1:], axis=1)
-        speed = np.max(np.abs(v) / v_limit, axis=1)
-        grown = np.maximum(T, np.maximum(need, T * np.minimum(np.maximum(speed, 1.0), 1.01)))
-        # An end segment too short for its start or stop grows by 1 % at a time.
-        grown[0] *= 1.0 if ends[0].all() else 1.01
-        grown[-1] *= 1.0 if ends[1].all() else 1.01
-        if np.all(grown <= T * (1 + 1e-13)):
-            break
-        T = grown
-    else:
-        raise InfeasibleError("could not find segment durations that keep the limits")
-    # No motion at all in a segment: it still needs some time to be a segment.
-    return np.where(T > 0, T, 1e-9)
-
-
 def _build(
     q: FloatArray, T: FloatArray, a_limit: FloatArray, j_limit: FloatArray | None
 ) -> tuple[Trajectory, dict[str, FloatArray]]:
     """Phase plan of every joint, and the positions at the waypoint times."""
     n, ndof = q.shape
-    v, blends, _ = _velocities(q, T, a_limit, j_limit)
+    v, blends, _, _ = _velocities(q, T, a_limit, j_limit)
     padded = np.concatenate([np.zeros((1, ndof)), v, np.zeros((1, ndof))])
     dv = np.diff(padded, axis=0)  # (n, ndof) velocity change of every blend
     times = np.concatenate([[0.0], np.cumsum(T)])
@@ -280,16 +529,32 @@ def _build(
     return trajectory, details
 
 
-def _verify_limits(
+def _verify(
     trajectory: Trajectory,
     details: dict[str, FloatArray],
+    q: FloatArray,
+    through: bool,
     v_limit: FloatArray,
     a_limit: FloatArray,
 ) -> None:
-    """The plan must land on the last waypoint and keep its limits (exact check)."""
+    """Refuse a plan that would look right and be wrong.
+
+    It must keep its limits (exact extrema), land on the last waypoint and, with
+    ``through``, pass the interior ones.
+    """
     velocity, acceleration = trajectory.extrema(1).peak, trajectory.extrema(2).peak
     if np.any(velocity > v_limit * (1 + 1e-9)) or np.any(acceleration > a_limit * (1 + 1e-9)):
         raise InfeasibleError(
             "the blends do not fit the given durations within the limits; give longer durations"
         )
-    del details
+    # Rounding of positions of size |q| and of the sums of the phases' steps.
+    scale = float(np.max(np.abs(q)))
+    tolerance = 1e-12 * scale
+    end = trajectory.position(trajectory.duration)
+    miss = np.abs(details["via_position"][1:-1] - q[1:-1]) if through else np.zeros(1)
+    if np.any(np.abs(end - q[-1]) > tolerance) or np.any(miss > 1e-10 * scale):
+        raise InfeasibleError(
+            "the blends miss the waypoints they must reach (by "
+            f"{max(float(np.max(np.abs(end - q[-1]))), float(np.max(miss))):.3g} rad); "
+            "give durations"
+        )

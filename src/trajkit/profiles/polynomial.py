@@ -6,6 +6,7 @@ is per joint may be a scalar, which then applies to all joints.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from fractions import Fraction
 from functools import cache
@@ -343,7 +344,7 @@ def _boundary_polynomial(
     ]
     _check_boundary_within_limits(start, end, limits, names, derivatives)
     given = any(limit is not None for limit in limits)
-    info: dict[str, object] = {"planner": name}
+    info: dict[str, object] = {"planner": name, "continuity": math.inf}  # one polynomial
     if duration is None:
         if not given:
             raise InvalidInputError(
@@ -378,7 +379,10 @@ def _boundary_polynomial(
     else:
         coefficients = hermite_pieces(start, end, np.full(ndof, T))[:, np.newaxis, :]
     info["duration"] = T
-    return Trajectory([0.0, T], coefficients, info=info)
+    # The boundary conditions are the exact start and end states (the Hermite
+    # polynomial reproduces them only up to rounding at T).
+    exact = {} if T == 0.0 else {"start": start, "end": end}
+    return Trajectory([0.0, T], coefficients, info=info, **exact)
 
 
 def _check_boundary_within_limits(
@@ -634,7 +638,12 @@ def polynomial(
     c = np.zeros((storage + 1, m, ndof))
     for i, d in enumerate(degree_of):
         c[storage - d :, i, :] = solution[offsets[i] : offsets[i + 1]]
-    info = {"planner": "polynomial", "degrees": tuple(degree_of), "equations": equations}
+    info = {
+        "planner": "polynomial",
+        "degrees": tuple(degree_of),
+        "equations": equations,
+        "continuity": _claimed_continuity(joins, degree_of),
+    }
     return Trajectory(breakpoints, c, info=info)
 
 
@@ -656,6 +665,19 @@ def _read_conditions(name: str, group: object) -> list[tuple[float, int, ArrayLi
         finite_array(f"{name}[{k}] value", value)
         out.append((time, int(order), value))
     return out
+
+
+def _claimed_continuity(joins: list[tuple[int, ...]], degrees: tuple[int, ...]) -> float:
+    """The derivative order up to which every join is continuous by construction."""
+    claim = math.inf
+    for j, orders in enumerate(joins):
+        k = -1
+        while k + 1 in orders:
+            k += 1
+        # Equal up to both degrees: the same polynomial, every derivative continuous.
+        if k < max(degrees[j], degrees[j + 1]):
+            claim = min(claim, k)
+    return claim
 
 
 def _read_continuity(continuity: Sequence[Sequence[int]] | None, m: int) -> list[tuple[int, ...]]:

@@ -541,7 +541,10 @@ def scurve(
         )
     if step is not None:
         solution = quantize_scurve(solution, step, args, mode)
-    plan = PhasePlan(start, start_v, solution.durations, solution.accelerations, solution.jerks)
+    plan = PhasePlan(
+        start, start_v, solution.durations, solution.accelerations, solution.jerks, end, end_v,
+        np.zeros(ndof),
+    )  # fmt: skip
     info = plan_info(
         "scurve", sync, step, solution.duration, solution.own, solution.limiting,
         solution.durations, solution.peak_velocity,

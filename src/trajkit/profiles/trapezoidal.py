@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 from trajkit._periods import whole_periods
 from trajkit._validation import (
     FloatArray,
+    choice,
     count_dof,
     finite_array,
     joint_vector,
@@ -433,9 +434,7 @@ def _limit_magnitudes(
 
 
 def _read_sync(sync: object) -> Sync:
-    if sync not in SYNC_MODES:
-        raise InvalidInputError(f"sync must be 'time', 'phase' or None, got {sync!r}")
-    return sync  # type: ignore[return-value]
+    return choice("sync", sync, SYNC_MODES)  # type: ignore[no-any-return]
 
 
 def _check_boundary_velocities(
@@ -590,7 +589,7 @@ def trapezoidal(
     )
     if step is not None:
         solution = quantize_trapezoid(solution, step, args, sync if duration is None else "time")
-    trajectory = _to_trajectory(start, start_v, solution, sync, step)
+    trajectory = _to_trajectory(start, start_v, solution, sync, step, target=(end, end_v))
     if requested is not None and float(solution.duration) > float(requested) * (1 + 1e-12):
         blocked = ~_exact_duration(np.asarray(requested)[..., np.newaxis], args).valid
         joint = int(np.flatnonzero(blocked)[0]) if blocked.any() else 0
@@ -611,10 +610,13 @@ def _to_trajectory(
     sync: Sync,
     dt: float | None,
     extra: dict[str, object] | None = None,
+    target: tuple[FloatArray, FloatArray] | None = None,
 ) -> Trajectory:
+    # target: (qf, vf), the state the trajectory ends in exactly
     plan = PhasePlan(
-        start, start_v, solution.times, solution.accelerations, np.zeros_like(solution.times)
-    )
+        start, start_v, solution.times, solution.accelerations, np.zeros_like(solution.times),
+        *(target or (None, None)),
+    )  # fmt: skip
     info = plan_info(
         "trapezoidal", sync, dt, solution.duration, solution.own, solution.limiting,
         solution.times, solution.peak_velocity,
@@ -754,4 +756,5 @@ def _blend_rule(
         times, accelerations, velocity, np.array(T), minimum, np.array(joint)
     )
     extra = {"blend_time": tb, "rule": "blend_ratio" if blend_ratio is not None else "blend_time"}
-    return _to_trajectory(start, np.zeros(ndof), solution, "phase", dt, extra)
+    target = (end, np.zeros(ndof))
+    return _to_trajectory(start, np.zeros(ndof), solution, "phase", dt, extra, target)

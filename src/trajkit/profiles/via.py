@@ -7,7 +7,13 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from trajkit._validation import FloatArray, finite_array, increasing_times, joint_vector
+from trajkit._validation import (
+    FloatArray,
+    choice,
+    finite_array,
+    increasing_times,
+    joint_vector,
+)
 from trajkit.errors import InvalidInputError
 from trajkit.profiles.polynomial import hermite_pieces
 from trajkit.trajectory import Trajectory
@@ -67,7 +73,10 @@ def _through(times: FloatArray, start: FloatArray, end: FloatArray, planner: str
     """One Hermite piece per segment, from per-point boundary values (orders, n, ndof)."""
     durations = np.diff(times)[:, np.newaxis]
     c = hermite_pieces(start, end, durations)
-    return Trajectory(times, c, info={"planner": planner})
+    # Hermite pieces match the given orders at each via point: C(orders - 1). The
+    # first and last points' values are the exact start and end states.
+    info = {"planner": planner, "continuity": start.shape[0] - 1}
+    return Trajectory(times, c, info=info, start=start[:, 0], end=end[:, -1])
 
 
 def cubic_via(
@@ -169,6 +178,7 @@ def cubic_spline(
     ndof = q.shape[1]
     start_velocity = joint_vector("v0", v0, ndof, unit="rad/s")
     end_velocity = joint_vector("vf", vf, ndof, unit="rad/s")
+    choice("bc", bc, ("clamped", "natural"))
     if bc == "clamped":
         spline = CubicSpline(t, q, bc_type=((1, start_velocity), (1, end_velocity)))
     elif bc == "natural":
@@ -180,4 +190,7 @@ def cubic_spline(
         spline = CubicSpline(t, q, bc_type="natural")
     else:
         raise InvalidInputError(f"bc must be 'clamped' or 'natural', got {bc!r}")
-    return Trajectory(t, spline.c, info={"planner": "cubic_spline", "bc": bc})
+    info = {"planner": "cubic_spline", "bc": bc, "continuity": 2}
+    exact = [q[0], start_velocity] if bc == "clamped" else [q[0]]
+    final = [q[-1], end_velocity] if bc == "clamped" else [q[-1]]
+    return Trajectory(t, spline.c, info=info, start=exact, end=final)

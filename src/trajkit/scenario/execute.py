@@ -21,7 +21,7 @@ from trajkit.io.atomic import StagedFiles, staged_files
 from trajkit.kinematics import BUILTIN, DHRow, SerialChain, from_urdf
 from trajkit.mobile.models import BASES
 from trajkit.profiles import PLANNERS
-from trajkit.scenario.parse import Scenario
+from trajkit.scenario.parse import MOBILE_JERKS, Scenario
 from trajkit.scenario.reader import ScenarioError
 from trajkit.trajectory import Trajectory
 
@@ -254,7 +254,8 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
 
 
 def _mobile_limits(scenario: Scenario, model: Any) -> Any:
-    return model.limits.replace(**scenario.limits)
+    checked = {key: value for key, value in scenario.limits.items() if key not in MOBILE_JERKS}
+    return model.limits.replace(**checked)
 
 
 def _mobile_plan(scenario: Scenario, model: Any, lines: list[str]) -> tuple[Any, Any]:
@@ -272,6 +273,7 @@ def _mobile_plan(scenario: Scenario, model: Any, lines: list[str]) -> tuple[Any,
         )
         plan = mobile.rotate_translate_rotate(
             goal, (*task["start"], task["start_heading"]), limits=limits, profile=task["profile"],
+            jmax=scenario.limits.get("jerk"), angular_jmax=scenario.limits.get("angular_jerk"),
             blend_ratio=task["blend_ratio"], reverse=task["reverse"], dt=scenario.period,
             model=model,
         )  # fmt: skip
@@ -407,7 +409,8 @@ def _limits_text(scenario: Scenario) -> str:
         values = np.atleast_1d(value)
         angular = not scenario.mobile or key.startswith("angular")
         unit = {"velocity": "/s", "angular_velocity": "/s", "acceleration": "/s²",
-                "angular_acceleration": "/s²", "jerk": "/s³"}[key]  # fmt: skip
+                "angular_acceleration": "/s²", "jerk": "/s³",
+                "angular_jerk": "/s³"}[key]  # fmt: skip
         shown = np.degrees(values) if angular else values
         base = "deg" if angular else "m"
         parts.append(f"{key.replace('_', ' ')} {', '.join(f'{v:.4g}' for v in shown)} "

@@ -18,6 +18,7 @@ import numpy as np
 
 from trajkit.kinematics.robots import BUILTIN
 from trajkit.mobile.models import BASES
+from trajkit.mobile.plans import MAX_TRAVEL
 from trajkit.scenario.reader import ScenarioError, Table
 
 __all__ = ["ARM_ROBOTS", "MOBILE_ROBOTS", "TASKS", "Scenario", "from_data", "load", "parse"]
@@ -30,6 +31,13 @@ JOINT_TASKS = ("joint_move", "waypoints", "polynomial")
 MOBILE_TASKS = ("twist", "goto", "figure8")
 TASKS = ARM_TASKS + MOBILE_TASKS
 PROFILES = ("cubic", "quintic", "septic", "trapezoid", "scurve")
+#: The largest time (s) a polynomial task names, some 31,700 years.
+MAX_TIME = 1e12
+#: A base's jerk limits: not MobileLimits (no check covers them), they shape goto's S-curves.
+MOBILE_JERKS = ("jerk", "angular_jerk")
+MOBILE_LIMITS = (
+    "velocity", "angular_velocity", "acceleration", "angular_acceleration", *MOBILE_JERKS,
+)  # fmt: skip
 ANIMATIONS = ("none", "gif", "mp4")
 
 
@@ -48,7 +56,8 @@ class Scenario:
         ``kind`` and its parameters, angles in radians.
     limits : dict
         Arm: velocity, acceleration, jerk (per joint); base: velocity,
-        angular_velocity, acceleration, angular_acceleration.
+        angular_velocity, acceleration, angular_acceleration, and jerk (m/s³) and
+        angular_jerk (rad/s³) for a goto task with ``profile = "scurve"``.
     period : float or None
         The controller period (s): switching times on its multiples, sampling.
     simulation : dict
@@ -126,6 +135,7 @@ def from_data(
     robot = {} if robot_table is None else _robot(robot_table, kind, folder or Path("."))
     task = _task(task_table, kind)
     limits = _limits(root.table("limits"), kind in MOBILE_TASKS)
+    _check_jerk(limits, task, kind)
     controller = root.table("controller")
     period = None
     if controller is not None:
@@ -205,6 +215,10 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
         task["times"] = table.numbers("times")
         if task["times"].size < 2 or np.any(np.diff(task["times"]) <= 0):
             raise ScenarioError(f"{table.where('times')}: expected at least 2 increasing times")
+        if np.abs(task["times"]).max() > MAX_TIME:
+            # Powers of time up to the 7th build the system A a = b: they must stay finite.
+            raise ScenarioError(f"{table.where('times')}: expected times within ±{MAX_TIME:g} "
+                                f"s, got {task['times'].tolist()}")  # fmt: skip
         segments = table.tables("segments")
         if len(segments) != task["times"].size - 1:
             wanted = task["times"].size - 1
@@ -278,6 +292,10 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
             choices=("feedforward", "kanayama", "linearization", "pure-pursuit"),
         )  # fmt: skip
         task["offset"] = table.numbers("offset", (0.0, 0.0), count=2)
+        if not float(np.hypot(*task["offset"])) <= MAX_TRAVEL:
+            raise ScenarioError(f"{table.where('offset')}: expected at most {MAX_TRAVEL:g} m "
+                                "from the curve's start, got "
+                                f"{task['offset'].tolist()}")  # fmt: skip
         task["offset_heading"] = table.number("offset_heading", 0.0, angles=True)
         task["fit"] = table.boolean("fit", False)
     table.done()
@@ -287,8 +305,7 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
 def _limits(table: Table | None, mobile: bool) -> dict[str, Any]:
     if table is None:
         return {}
-    keys = ("velocity", "angular_velocity", "acceleration", "angular_acceleration") if mobile \
-        else ("velocity", "acceleration", "jerk")  # fmt: skip
+    keys = MOBILE_LIMITS if mobile else ("velocity", "acceleration", "jerk")
     limits = {}
     for key in keys:
         angular = not mobile or key.startswith("angular")
@@ -298,6 +315,21 @@ def _limits(table: Table | None, mobile: bool) -> dict[str, Any]:
                                               positive=True))  # fmt: skip
     table.done()
     return limits
+
+
+def _check_jerk(limits: dict[str, Any], task: dict[str, Any], kind: str) -> None:
+    """A base's jerk limits belong to, and are required by, a goto task's S-curve phases."""
+    if kind not in MOBILE_TASKS:
+        return
+    scurve = kind == "goto" and task["profile"] == "scurve" and task["blend_ratio"] is None
+    for key in MOBILE_JERKS:
+        if key in limits and not scurve:
+            raise ScenarioError(f"limits.{key}: only used by the S-curve phases of a goto "
+                                "task (profile = 'scurve', no blend_ratio); remove it")  # fmt: skip
+        if scurve and key not in limits:
+            phases = "turns" if key.startswith("angular") else "drive"
+            raise ScenarioError(f"limits.{key}: required by the scurve profile of a goto task "
+                                f"(the jerk limit of its {phases})")  # fmt: skip
 
 
 def _simulation(table: Table | None, mobile: bool) -> dict[str, Any]:

@@ -7,6 +7,7 @@ install gives one clear message instead of an ``ImportError`` deep in a call.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import sys
 from collections.abc import Iterator
@@ -71,16 +72,54 @@ def mujoco_module() -> ModuleType:
     try:
         import mujoco
     except ImportError as exc:
+        if _gl_selected() and importlib.util.find_spec("mujoco") is not None:
+            # Installed, but the chosen OpenGL backend's library is missing.
+            fallback = _import_without_gl(exc)
+            if fallback is not None:
+                return fallback
         raise SimulationUnavailableError(
             f"physics simulation needs MuJoCo, which is not installed ({exc}); "
             f"install it with: {INSTALL_HINT}"
         ) from None
     except Exception as exc:  # MuJoCo loads its OpenGL backend on import, which can fail
+        fallback = _import_without_gl(exc) if _gl_selected() else None
+        if fallback is not None:
+            return fallback
         reason = " ".join(str(exc).split()) or type(exc).__name__
         raise SimulationUnavailableError(
             f"MuJoCo failed to import with MUJOCO_GL={os.environ.get('MUJOCO_GL', '')!r} "
             f"({reason}); set MUJOCO_GL=egl, osmesa or disable (simulation needs no OpenGL)"
         ) from None
+    return mujoco
+
+
+#: Why MuJoCo's OpenGL backend failed to load, when it was imported without one.
+gl_failure: str | None = None
+
+
+def _gl_selected() -> bool:
+    return os.environ.get("MUJOCO_GL", "").lower() not in ("", "disable", "disabled", "off")
+
+
+def _import_without_gl(exc: BaseException) -> ModuleType | None:
+    """Import MuJoCo with rendering disabled after its OpenGL backend failed to load.
+
+    Simulation needs no OpenGL: only frames are then unavailable (the renderer
+    raises :class:`SimulationUnavailableError` saying why), as documented.
+    """
+    global gl_failure
+    backend = os.environ.get("MUJOCO_GL", "")
+    reason = " ".join(str(exc).split()) or type(exc).__name__
+    for name in [m for m in sys.modules if m.split(".")[0] in ("mujoco", "OpenGL")]:
+        del sys.modules[name]  # the half-imported modules of the failed attempt
+    os.environ["MUJOCO_GL"] = "disable"
+    try:
+        import mujoco
+    except Exception:
+        return None
+    finally:
+        os.environ["MUJOCO_GL"] = backend
+    gl_failure = f"MUJOCO_GL={backend!r} failed to load when MuJoCo was imported ({reason})"
     return mujoco
 
 

@@ -20,6 +20,7 @@ import numpy as np
 from trajkit._validation import FloatArray, finite_array
 from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import atomic_write, staged_files
+from trajkit.sim import engine
 from trajkit.sim.arm import ArmLog
 from trajkit.sim.engine import SimulationUnavailableError, mujoco_module
 from trajkit.sim.mjcf import arm_extent
@@ -57,6 +58,9 @@ def _bound_backend() -> str | None:
 
 def _renderer(model: Any, height: int, width: int) -> Any:
     mujoco = mujoco_module()
+    if engine.gl_failure is not None:
+        # MuJoCo was imported without OpenGL so that simulating still works.
+        raise SimulationUnavailableError(f"{GL_HINT}; {engine.gl_failure}")
     glfw = ("", "glfw", "enable", "enabled", "on", "true", "1")
     if sys.platform == "linux" and not os.environ.get("DISPLAY") and _bound_backend() in glfw:
         # GLFW needs a screen; trying it anyway can abort the interpreter.

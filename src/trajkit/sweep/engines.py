@@ -10,9 +10,13 @@ and the chunk's number.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import logging
 import os
+import signal
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -24,9 +28,17 @@ import numpy as np
 
 from trajkit.errors import InvalidInputError
 from trajkit.sweep.spec import SweepSpec
-from trajkit.sweep.store import done_chunks, encode_chunk, prepare, require, write_chunk
+from trajkit.sweep.store import (
+    done_chunks,
+    encode_chunk,
+    lock,
+    prepare,
+    remove_temporaries,
+    require,
+    write_chunk,
+)
 
-__all__ = ["ENGINES", "Summary", "plan_chunk", "run"]
+__all__ = ["ENGINES", "ProgressBar", "Summary", "plan_chunk", "progress_bar", "run"]
 
 
 @dataclass(frozen=True)
@@ -45,7 +57,10 @@ def plan_chunk(spec: SweepSpec, chunk: int) -> Outcome:
     """Plan every problem of ``chunk`` and encode its rows (runs in a worker)."""
     ids, inputs = spec.inputs(chunk)
     period = spec.period if spec.keep == "samples" else None
-    result = spec.plan.run(spec.robot, spec.options, inputs, period)
+    # Extreme inputs (1e308, 1e-300) overflow on the way; the rows say so (NaN or inf
+    # peaks are infeasible), so numpy's warnings would only bury the one-line output.
+    with np.errstate(all="ignore"):
+        result = spec.plan.run(spec.robot, spec.options, inputs, period)
     failed = int(sum(1 for error in result.columns["error"] if error))
     infeasible = int((~result.columns["feasible"]).sum())
     rows = encode_chunk(spec, chunk, ids, inputs, result)
@@ -69,13 +84,63 @@ class Summary:
         return self.problems / self.seconds if self.seconds > 0 else float("nan")
 
 
+#: How often a worker without ``prctl`` looks whether the sweep's process is alive (s).
+_WATCH_PERIOD = 0.5
+
+
+def _join_the_sweep(sweep_pid: int) -> None:
+    """Pool worker initializer: die with the sweep's process, leave Ctrl-C to it.
+
+    A worker killed with its parent (SIGKILL of ``trajkit sweep``) would otherwise
+    live on until its chunk is planned and then wait forever for the next one,
+    holding the parent's stdout open (a ``| tee`` never ends). Workers write
+    nothing, so killing them loses nothing but the chunk in progress. On Linux the
+    kernel sends SIGKILL when the parent dies (``PR_SET_PDEATHSIG``); elsewhere a
+    thread looks every :data:`_WATCH_PERIOD` s.
+
+    Ctrl-C reaches every process of the terminal's group: the sweep's process
+    handles it (keeping the finished chunks), so an idle worker must not die of it
+    with a traceback of its own.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    parent = os.getppid()  # the sweep's process, or a fork server started by it
+    if sys.platform.startswith("linux") and parent == sweep_pid:
+        with contextlib.suppress(OSError, AttributeError):
+            libc = ctypes.CDLL(None, use_errno=True)
+            if libc.prctl(1, signal.SIGKILL, 0, 0, 0) == 0:  # 1: PR_SET_PDEATHSIG
+                if os.getppid() != parent:  # it died before the request took effect
+                    os._exit(1)
+                return
+    if sys.platform == "win32":  # os.kill(pid, 0) would end the process there
+        return
+    threading.Thread(target=_watch_the_sweep, args=(parent, sweep_pid), daemon=True,
+                     name="trajkit-sweep-watch").start()  # fmt: skip
+
+
+def _watch_the_sweep(parent: int, sweep_pid: int) -> None:
+    """End this worker once its parent is gone (re-parented) or the sweep has died."""
+    while True:
+        if os.getppid() != parent:
+            os._exit(1)
+        if sweep_pid != parent:
+            try:
+                os.kill(sweep_pid, 0)
+            except ProcessLookupError:
+                os._exit(1)
+            except OSError:  # alive, but not ours to signal
+                pass
+        time.sleep(_WATCH_PERIOD)
+
+
 def _local(spec: SweepSpec, todo: list[int], workers: int, address: str | None
            ) -> Iterator[Outcome]:  # fmt: skip
     if workers == 1:
         for chunk in todo:
             yield plan_chunk(spec, chunk)
         return
-    pool = ProcessPoolExecutor(max_workers=workers)
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_join_the_sweep,
+                               initargs=(os.getpid(),))  # fmt: skip
+    finished_normally = False
     try:
         queue = iter(todo)
         running: set[Future] = set()
@@ -90,7 +155,15 @@ def _local(spec: SweepSpec, todo: list[int], workers: int, address: str | None
                 following = next(queue, None)
                 if following is not None:
                     running.add(pool.submit(plan_chunk, spec, following))
+        finished_normally = True
     finally:
+        if not finished_normally:
+            # Interrupted or failed: the chunks in progress will not be written, so
+            # waiting for them (minutes, for a large chunk) would only delay the exit.
+            # (The pool has no public way to stop running calls: its processes.)
+            for process in dict(getattr(pool, "_processes", None) or {}).values():
+                with contextlib.suppress(Exception):
+                    process.terminate()
         pool.shutdown(wait=True, cancel_futures=True)
 
 
@@ -150,6 +223,9 @@ def run(
 ) -> Summary:
     """Plan every chunk of ``spec`` not yet in ``out`` and write it there.
 
+    A chunk counts as done when its file reads back whole; the temporaries of a run
+    killed in that folder are removed first.
+
     Parameters
     ----------
     spec : SweepSpec
@@ -178,7 +254,7 @@ def run(
     InvalidInputError
         An unknown engine, a bad ``workers``, or ``address`` with the local engine.
     SweepError
-        ``out`` holds a different sweep.
+        ``out`` holds a different sweep, or another run is writing there.
     ScaleUnavailableError
         pyarrow (or zarr, or ray) is not installed.
     """
@@ -194,40 +270,61 @@ def run(
         require("zarr")
     folder = Path(out)
     prepare(spec, folder)
-    finished = done_chunks(folder)
-    todo = [k for k in range(spec.chunks) if k not in finished]
-    start = time.perf_counter()
-    problems = failed = infeasible = 0
-    done = len(finished & set(range(spec.chunks)))
-    for outcome in ENGINES[engine](spec, todo, count, address):
-        write_chunk(spec, folder, outcome.chunk, outcome.rows, outcome.ids, outcome.samples)
-        problems += outcome.ids.size
-        failed += outcome.failed
-        infeasible += outcome.infeasible
-        done += 1
-        if progress is not None:
-            progress(done, spec.chunks, problems, time.perf_counter() - start)
+    with lock(folder):
+        remove_temporaries(folder)  # of a run killed while writing
+        finished = done_chunks(folder, spec)
+        todo = [k for k in range(spec.chunks) if k not in finished]
+        start = time.perf_counter()
+        problems = failed = infeasible = 0
+        done = len(finished)
+        for outcome in ENGINES[engine](spec, todo, count, address):
+            write_chunk(spec, folder, outcome.chunk, outcome.rows, outcome.ids, outcome.samples)
+            problems += outcome.ids.size
+            failed += outcome.failed
+            infeasible += outcome.infeasible
+            done += 1
+            if progress is not None:
+                progress(done, spec.chunks, problems, time.perf_counter() - start)
     return Summary(len(todo), spec.chunks - len(todo), problems, failed, infeasible,
                    time.perf_counter() - start)  # fmt: skip
 
 
-def progress_bar(stream: Any = None) -> Callable[[int, int, int, float], None]:
-    """A one-line progress bar on stderr: chunks, problems and problems per second."""
-    stream = sys.stderr if stream is None else stream
-    live = getattr(stream, "isatty", lambda: False)()
-    last = [-1]
+class ProgressBar:
+    """A one-line progress bar: chunks, problems and problems per second.
 
-    def show(done: int, total: int, problems: int, seconds: float) -> None:
+    Call it as :func:`run`'s ``progress``; :meth:`close` ends a line left open on a
+    terminal, so a message after an interruption starts a line of its own.
+    """
+
+    def __init__(self, stream: Any = None) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        self.live = bool(getattr(self.stream, "isatty", lambda: False)())
+        self._last = -1
+        self._open = False  # a live line without its newline yet
+
+    def __call__(self, done: int, total: int, problems: int, seconds: float) -> None:
+        """Show ``done`` of ``total`` chunks and ``problems`` planned in ``seconds``."""
         filled = round(20 * done / max(total, 1))
         rate = problems / seconds if seconds > 0 else 0.0
         line = (f"[{'#' * filled}{'.' * (20 - filled)}] {done}/{total} chunks, "
                 f"{problems:,} problems, {rate:,.0f} problems/s")  # fmt: skip
-        if live:
-            stream.write("\r" + line + ("\n" if done == total else ""))
-            stream.flush()
-        elif filled != last[0] or done == total:  # about 20 lines, not one per chunk
-            stream.write(line + "\n")
-            stream.flush()
-        last[0] = filled
+        if self.live:
+            self.stream.write("\r" + line + ("\n" if done == total else ""))
+            self.stream.flush()
+            self._open = done != total
+        elif filled != self._last or done == total:  # about 20 lines, not one per chunk
+            self.stream.write(line + "\n")
+            self.stream.flush()
+        self._last = filled
 
-    return show
+    def close(self) -> None:
+        """End the bar's line if it is still open (an interrupted or failed run)."""
+        if self._open:
+            self.stream.write("\n")
+            self.stream.flush()
+            self._open = False
+
+
+def progress_bar(stream: Any = None) -> ProgressBar:
+    """A one-line progress bar on ``stream`` (default stderr), redrawn on a terminal."""
+    return ProgressBar(stream)

@@ -2,9 +2,17 @@
 
 Every planner turns one chunk's inputs into the same kind of rows: ``duration``
 (s), ``feasible`` (planned and every limit kept), ``worst_violation`` (the largest
-``peak / bound - 1`` over the checked limits, 0 when all hold), the peaks per
-joint (or per base quantity) and ``error`` (the message, empty when planned). A
-problem that cannot be planned is a row with its error, never an exception.
+``peak / bound - 1`` over the checked limits, 0 when no peak passes its bound,
+``inf`` for an unbounded derivative), the peaks per joint (or per base quantity:
+``v`` and ``ω``, and the left and right wheel speeds of a base with a wheel limit)
+and ``error`` (the message, empty when planned). A problem that cannot be planned
+is a row with its error, never an exception.
+
+The problem-by-problem planners take ``feasible`` from the limit check the Python
+API runs (``Report.ok`` of the plan's ``check``, which allows ``rtol`` = 1e-9 of
+each bound for rounding); a mobile base is planned and checked with its own
+limits, wheel speeds included, the sweep's ``vmax``, ``wmax``, ``amax`` and
+``alpha_max`` replacing those four.
 
 The trapezoid and S-curve planners plan a whole chunk in one batch call
 (:mod:`trajkit.batch`) and read the peaks off the phases exactly; if the batch
@@ -70,9 +78,20 @@ def _empty(n: int, width: int, quantities: tuple[str, ...]) -> dict[str, np.ndar
     return columns
 
 
+#: How far past its bound a peak may go and still count as kept: the ``rtol`` of
+#: :func:`trajkit.check`, whose verdict the problem-by-problem planners take.
+RTOL = 1e-9
+
+
 def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArray,
-          peaks: dict[str, FloatArray], ratios: dict[str, FloatArray]) -> None:  # fmt: skip
-    """Rows ``where``: durations, peaks ``(k, width)``, and their worst ``peak / bound``."""
+          peaks: dict[str, FloatArray], ratios: dict[str, FloatArray],
+          verdict: np.ndarray | None = None) -> None:  # fmt: skip
+    """Rows ``where``: durations, peaks ``(k, width)``, and their worst ``peak / bound``.
+
+    ``verdict`` is each row's limit check (``Report.ok``); without it a row is
+    feasible when no ratio passes 1 by more than :data:`RTOL`, the check's own rule
+    for symmetric bounds.
+    """
     columns["duration"][where] = duration
     worst = np.zeros(where.size)
     for quantity, peak in peaks.items():
@@ -80,7 +99,10 @@ def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArra
             columns[f"peak_{quantity}_{j + 1}"][where] = peak[:, j]
         worst = np.maximum(worst, (ratios[quantity] - 1.0).max(axis=1))
     columns["worst_violation"][where] = np.maximum(worst, 0.0)
-    columns["feasible"][where] = worst <= 1e-9
+    # NaN (a peak that is not a number) is no proof of feasibility: `<=` says False;
+    # nor is a plan without a finite duration.
+    kept = worst <= RTOL if verdict is None else verdict
+    columns["feasible"][where] = kept & np.isfinite(duration)
 
 
 def _failed(columns: dict[str, np.ndarray], index: int, error: Exception,
@@ -106,12 +128,15 @@ def _joint_widths(names: tuple[str, ...]) -> Callable[[dict, dict], dict[str, in
 
 def _phase_peaks(plan: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Exact peaks of |velocity|, |acceleration|, |jerk| per problem and joint."""
-    from trajkit.profiles._phases import phase_states
-
-    _, _, v = phase_states(plan)
     d, a, j = plan.durations, plan.accelerations, plan.jerks
     used = d > 0.0
-    v_end = v + a * d + j * d**2 / 2.0
+    # Terms of a zero jerk or acceleration are left out, not computed: a phase of
+    # 1e300 s (vmax = 1e-300) would make them 0 * inf = NaN.
+    dv = np.where(a != 0.0, a * d, 0.0) + np.where(j != 0.0, j * d**2 / 2.0, 0.0)
+    v = plan.velocity[..., np.newaxis] + np.concatenate(
+        [np.zeros_like(dv[..., :1]), np.cumsum(dv[..., :-1], axis=-1)], axis=-1
+    )  # each phase's starting velocity
+    v_end = v + dv
     with np.errstate(divide="ignore", invalid="ignore"):
         vertex = np.where(j != 0.0, -a / j, -1.0)
     inside = used & (vertex > 0.0) & (vertex < d)
@@ -158,36 +183,60 @@ def _batched(
 #: The most memory one chunk's samples may take (bytes).
 MAX_SAMPLE_BYTES = 2**31
 
+#: About how much of the samples one evaluation of a batch makes at once (bytes): its
+#: temporaries are several times that, so the chunk's buffer is filled in slices.
+_EVALUATION_BYTES = 2**26
 
-def _sample_counts(durations: FloatArray, period: float) -> np.ndarray:
+
+def _sample_counts(durations: FloatArray, period: float, width: int) -> np.ndarray:
     """How many samples at ``0, period, ...`` fit each duration (1 if not planned).
 
-    Rounded as ``Trajectory.sample`` rounds its grid.
+    Rounded as ``Trajectory.sample`` rounds its grid. The counts are found in floating
+    point and the chunk's room for them is checked before anything is allocated:
+    a count past ``int64`` must be refused, not wrapped round to a negative length.
+
+    Raises
+    ------
+    InvalidInputError
+        The chunk's samples would take more than :data:`MAX_SAMPLE_BYTES`.
     """
     finite = np.where(np.isfinite(durations), durations, 0.0)
-    return np.floor(finite / period * (1.0 + 1e-12)).astype(np.int64) + 1
+    with np.errstate(over="ignore"):  # a denormal period: inf samples, refused below
+        counts = np.floor(finite / period * (1.0 + 1e-12)) + 1.0
+    longest = int(np.argmax(counts)) if counts.size else 0
+    largest = float(counts[longest]) if counts.size else 1.0
+    size = float(counts.size) * largest * width * 8.0
+    if not size <= MAX_SAMPLE_BYTES:
+        raise InvalidInputError(
+            f'keep = "samples" with period = {period:.6g} s: a {finite[longest]:.6g} s '
+            f"trajectory has {largest:.6g} samples, and {counts.size} problems of up to "
+            f"that many need {size / 2**30:.3g} GiB per chunk, more than the "
+            f"{MAX_SAMPLE_BYTES / 2**30:g} GiB allowed: use a smaller chunk or a longer period"
+        )
+    return counts.astype(np.int64)
 
 
 def _sample_buffer(n: int, count: int, width: int) -> tuple[FloatArray, np.ndarray]:
-    """NaN-filled room for ``n`` problems of ``count`` samples each, and their lengths."""
-    size = n * count * width * 8
-    if size > MAX_SAMPLE_BYTES:
-        raise InvalidInputError(
-            f"keeping samples of {n} problems of up to {count} samples each needs "
-            f"{size / 2**30:.1f} GiB per chunk: use a smaller chunk or a longer period"
-        )
+    """NaN-filled room for ``n`` problems of ``count`` samples each, and their lengths.
+
+    Only called with counts :func:`_sample_counts` has checked.
+    """
     return np.full((n, count, width), np.nan), np.zeros(n, dtype=np.int64)
 
 
 def _batch_samples(done: list[tuple[np.ndarray, Any]], n: int, width: int, period: float,
                    durations: FloatArray) -> tuple[FloatArray, np.ndarray]:  # fmt: skip
-    count = int(_sample_counts(durations, period).max())
+    counts = _sample_counts(durations, period, width)
+    count = int(counts.max())
     times = np.arange(count) * period
     values, lengths = _sample_buffer(n, count, width)
-    for rows, plans in done:  # one evaluation per planned batch
-        own = _sample_counts(durations[rows], period)
-        mask = np.arange(count)[None, :] < own[:, None]
-        values[rows] = np.where(mask[:, :, None], plans.evaluate(times), np.nan)
+    for rows, plans in done:  # one evaluation per planned batch and slice of times
+        own = counts[rows]
+        step = max(1, _EVALUATION_BYTES // max(1, rows.size * width * 8))
+        for first in range(0, count, step):
+            block = slice(first, min(first + step, count))
+            mask = np.arange(block.start, block.stop)[None, :] < own[:, None]
+            values[rows, block] = np.where(mask[:, :, None], plans.evaluate(times[block]), np.nan)
         lengths[rows] = own
     return values, lengths
 
@@ -252,11 +301,17 @@ def _one_by_one(
     period: float | None,
     sample: Callable[[Any, FloatArray], FloatArray],
 ) -> ChunkResult:
-    """Plan each problem: ``plan_one(i)`` gives the plan and its limit check."""
+    """Plan each problem: ``plan_one(i)`` gives the plan and its limit check.
+
+    A row is feasible exactly when its check is ``ok``; its worst violation also
+    counts the check's violations (an unbounded derivative where two pieces meet
+    is a violation of value ``inf`` whatever the peaks say).
+    """
     columns = _empty(n, width, quantities)
     plans: dict[int, Any] = {}
     peaks: dict[str, list[FloatArray]] = {q: [] for q in quantities}
     ratios: dict[str, list[FloatArray]] = {q: [] for q in quantities}
+    verdicts: list[bool] = []
     for i in range(n):
         try:
             plan, report = plan_one(i)
@@ -264,23 +319,41 @@ def _one_by_one(
             _failed(columns, i, exc)
             continue
         plans[i] = plan
+        verdicts.append(report.ok)
+        beyond = _violation_ratio(report)
         for quantity in quantities:
             low, high = report.peaks[quantity]
             peaks[quantity].append(np.maximum(np.abs(low), np.abs(high)))
-            ratios[quantity].append(report.ratios(quantity))
+            ratios[quantity].append(np.maximum(report.ratios(quantity), beyond))
     if plans:  # the rows of every planned problem at once
         where = np.fromiter(plans, dtype=np.int64)
         _fill(columns, where, np.array([plan.duration for plan in plans.values()]),
               {q: np.array(peaks[q]) for q in quantities},
-              {q: np.array(ratios[q]) for q in quantities})  # fmt: skip
+              {q: np.array(ratios[q]) for q in quantities}, np.array(verdicts))  # fmt: skip
     if period is None:
         return ChunkResult(columns)
-    counts = _sample_counts(columns["duration"], period)
+    counts = _sample_counts(columns["duration"], period, width)
     values, lengths = _sample_buffer(n, int(counts.max()), width)
     for i, plan in plans.items():
         values[i, : counts[i]] = sample(plan, np.arange(counts[i]) * period)
         lengths[i] = counts[i]
     return ChunkResult(columns, (values, lengths))
+
+
+def _violation_ratio(report: Report) -> float:
+    """The largest ``|value| / |bound|`` of the check's violations (0 without any).
+
+    A violation passes its bound by more than the tolerance, so this is above 1
+    for every report that is not ``ok``: the row's worst violation cannot be 0
+    while it is infeasible.
+    """
+    worst = 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for violation in report.violations:
+            bound = abs(violation.bound)
+            ratio = abs(violation.value) / bound if bound > 0 else np.inf
+            worst = max(worst, float(ratio) if ratio == ratio else np.inf)  # NaN: unbounded
+    return worst
 
 
 def _run_polynomial(robot: dict, options: dict, values: dict, period: float | None
@@ -291,7 +364,7 @@ def _run_polynomial(robot: dict, options: dict, values: dict, period: float | No
     law = {"cubic": tk.cubic, "quintic": tk.quintic, "septic": tk.septic}[options["profile"]]
     quantities = ("velocity", "acceleration")
 
-    def plan_one(i: int) -> tuple[Any, dict, dict]:
+    def plan_one(i: int) -> tuple[Any, Report]:
         trajectory = law(values["q0"][i], values["qf"][i], float(values["duration"][i, 0]))
         limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
         return trajectory, trajectory.check(limits)
@@ -307,7 +380,7 @@ def _run_topp(robot: dict, options: dict, values: dict, period: float | None) ->
     knots = np.linspace(0.0, 1.0, points)
     quantities = ("velocity", "acceleration")
 
-    def plan_one(i: int) -> tuple[Any, dict, dict]:
+    def plan_one(i: int) -> tuple[Any, Report]:
         way = values["waypoints"][i].reshape(points, width)
         path = tk.cubic_spline(knots, way, bc="natural")
         limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
@@ -335,7 +408,7 @@ def _run_task_space(robot: dict, options: dict, values: dict, period: float | No
     width = arm.ndof
     quantities = ("velocity", "acceleration")
 
-    def plan_one(i: int) -> tuple[Any, dict, dict]:
+    def plan_one(i: int) -> tuple[Any, Report]:
         limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
         move = time_optimal(arm, Line(values["p0"][i], values["pf"][i]), limits,
                             samples=options["samples"], grid=options["grid"])  # fmt: skip
@@ -356,19 +429,19 @@ def _run_mobile(robot: dict, options: dict, values: dict, period: float | None) 
 
     model = robot["model"]
     n = values["goal"].shape[0]
-    quantities = ("velocity", "acceleration")
+    # The base's own limits, wheel speeds included; the sweep's numbers replace only
+    # the four it names, as the same keywords do in the Python API.
+    wheels = getattr(model.limits, "wheel_speed", None) is not None
+    quantities = ("velocity", "acceleration", *(("wheel_speed",) if wheels else ()))
 
-    def plan_one(i: int) -> tuple[Any, dict, dict]:
-        limits = mobile.MobileLimits(
-            velocity=float(values["vmax"][i, 0]), angular_velocity=float(values["wmax"][i, 0]),
-            acceleration=float(values["amax"][i, 0]),
-            angular_acceleration=float(values["alpha_max"][i, 0]),
-        )  # fmt: skip
+    def plan_one(i: int) -> tuple[Any, Report]:
         plan = mobile.rotate_translate_rotate(
-            values["goal"][i], values["start"][i], model=model, limits=limits,
+            values["goal"][i], values["start"][i], model=model,
+            vmax=float(values["vmax"][i, 0]), wmax=float(values["wmax"][i, 0]),
+            amax=float(values["amax"][i, 0]), alpha_max=float(values["alpha_max"][i, 0]),
             profile=options["profile"],
         )  # fmt: skip
-        return plan, _base_report(plan.check(limits))
+        return plan, _base_report(plan.check())  # checked against the limits it was planned for
 
     def sample(plan: Any, t: FloatArray) -> FloatArray:  # the base's position (x, y)
         state = plan.evaluate(t)
@@ -378,7 +451,11 @@ def _run_mobile(robot: dict, options: dict, values: dict, period: float | None) 
 
 
 def _base_report(report: Report) -> Report:
-    """A base's check with (v, ω) as the two channels of velocity, and of acceleration."""
+    """A base's check with (v, ω) as the two channels of velocity, and of acceleration.
+
+    The wheel speeds, when checked, stay one quantity of two channels (left, right);
+    the violations and so the verdict are the check's own.
+    """
     pairs = {"velocity": ("velocity", "angular velocity"),
              "acceleration": ("acceleration", "angular acceleration")}  # fmt: skip
     peaks, bounds = {}, {}
@@ -387,6 +464,9 @@ def _base_report(report: Report) -> Report:
                                 for k in (0, 1))  # fmt: skip
         bounds[quantity] = tuple(np.concatenate([report.bounds[n][k] for n in names])
                                  for k in (0, 1))  # fmt: skip
+    if "wheel speed" in report.peaks:
+        peaks["wheel_speed"] = report.peaks["wheel speed"]
+        bounds["wheel_speed"] = report.bounds["wheel speed"]
     return Report(report.violations, peaks, bounds)
 
 

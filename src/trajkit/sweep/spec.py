@@ -52,6 +52,16 @@ __all__ = ["Distribution", "SweepError", "SweepSpec", "load", "parse"]
 #: More problems than this in one sweep file are refused (a typo, not a plan).
 MAX_PROBLEMS = 10**10
 
+#: More chunks (output files) than this are refused: the run lists them all.
+MAX_CHUNKS = 10**6
+
+#: The most memory one chunk's inputs may take (bytes); the planners need several
+#: times as much on top of them.
+MAX_CHUNK_INPUT_BYTES = 2**28
+
+#: The most points one grid may have.
+MAX_GRID_POINTS = 10**6
+
 
 class SweepError(ScenarioError):
     """A sweep file breaks a rule; the message names the key and the rule."""
@@ -160,17 +170,27 @@ def load(path: str | Path) -> SweepSpec:
     Raises
     ------
     SweepError
-        Not TOML, or any rule broken; the message names the key.
+        Missing, unreadable (a folder, not UTF-8), not TOML, or any rule broken; the
+        message names the file or the key.
     """
     source = Path(path)
+    if source.is_dir():  # read_text would say "Is a directory" without the path
+        raise SweepError(f"cannot read the sweep file {source}: it is a folder, not a file")
     try:
-        text = source.read_text(encoding="utf-8")
+        raw = source.read_bytes()
     except OSError as exc:
-        raise SweepError(f"cannot read the sweep file {source}: {exc.strerror}") from None
+        reason = exc.strerror or str(exc)
+        raise SweepError(f"cannot read the sweep file {source}: {reason}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SweepError(f"cannot read the sweep file {source}: it is not UTF-8 text (byte "
+                         f"0x{raw[exc.start]:02x} at offset {exc.start}); TOML is UTF-8"
+                         ) from None  # fmt: skip
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SweepError(f"{source.name} is not valid TOML: {exc}") from None
+        raise SweepError(f"{source} is not valid TOML: {exc}") from None
     return parse(data)
 
 
@@ -227,6 +247,18 @@ def _parse(data: dict[str, Any]) -> SweepSpec:
             combinations *= distribution.choices.shape[0]
     problems = _count(head, "problems", combinations)
     chunk = _count(head, "chunk", min(problems, 10_000))
+    chunks = -(-problems // chunk)
+    if chunks > MAX_CHUNKS:
+        raise SweepError(f"{head.where('chunk')}: {problems} problems in chunks of {chunk} make "
+                         f"{chunks} chunks (files), more than {MAX_CHUNKS:.0e}: use a larger "
+                         "chunk")  # fmt: skip
+    numbers = sum(widths[name] for name in parameters)
+    size = min(chunk, problems) * numbers * 8
+    if size > MAX_CHUNK_INPUT_BYTES:
+        raise SweepError(f"{head.where('chunk')}: {min(chunk, problems)} problems of {numbers} "
+                         f"numbers each take {size / 2**20:.0f} MiB of inputs per chunk, more "
+                         f"than {MAX_CHUNK_INPUT_BYTES / 2**20:.0f} MiB: use a smaller chunk"
+                         )  # fmt: skip
     seed = _count(head, "seed", 0, minimum=0)
     keep = head.string("keep", "summary", choices=("summary", "samples"))
     period = head.number("period", 0.01, positive=True)
@@ -298,6 +330,10 @@ def _distribution(table: Table, width: int) -> Distribution:
             first, second = _width(pair[0], width, where), _width(pair[1], width, where)
         if kind == "uniform" and np.any(second < first):
             raise SweepError(f"{where}: the high end is below the low end")
+        with np.errstate(over="ignore"):
+            span = second - first  # numpy draws low + (high - low) u: it must be finite
+        if kind == "uniform" and not np.all(np.isfinite(span)):
+            raise SweepError(f"{where}: high - low overflows float64 (at most 1.8e308)")
         if kind == "normal" and np.any(second < 0):
             raise SweepError(f"{where}: the standard deviation must be >= 0")
         table.done()
@@ -306,6 +342,9 @@ def _distribution(table: Table, width: int) -> Distribution:
         numbers = table.numbers(kind)
         if numbers.size != 3 or numbers[2] != int(numbers[2]) or numbers[2] < 1:
             raise SweepError(f"{where}: expected [start, stop, count] with a whole count >= 1")
+        if numbers[2] > MAX_GRID_POINTS:
+            raise SweepError(f"{where}: a count of {numbers[2]:.0f} points is more than "
+                             f"{MAX_GRID_POINTS:.0e}")  # fmt: skip
         points = np.linspace(numbers[0], numbers[1], int(numbers[2]))
         table.done()
         return Distribution(kind, (), np.repeat(points[:, None], width, axis=1))

@@ -95,8 +95,20 @@ class JointSpacePlan:
         return out
 
 
+#: Most inverse-kinematics samples one mapping makes. Each costs kilobytes (poses,
+#: Jacobians, every branch), so the cap is tighter than Trajectory.sample's
+#: ``MAX_SAMPLES`` row count; the rule and the message are the same.
+MAX_IK_SAMPLES = 1_000_000
+
+
 def _sample_times(duration: float, dt: float) -> FloatArray:
-    count = int(np.floor(duration / dt + 1e-9))
+    ratio = duration / dt
+    if not ratio <= MAX_IK_SAMPLES:
+        raise InvalidInputError(
+            f"dt={dt:g} s over {duration:g} s gives {ratio:.3g} samples; at most "
+            f"{MAX_IK_SAMPLES:.0e} are made: use a longer dt"
+        )
+    count = int(np.floor(ratio + 1e-9))
     times = np.arange(count + 1) * dt
     if duration - times[-1] > 1e-9 * max(1.0, duration):
         times = np.append(times, duration)
@@ -267,7 +279,8 @@ def to_joint_space(
     durations = np.diff(t)
     boundary = np.stack([q, qd, qdd])  # (3, m, ndof)
     coefficients = hermite_pieces(boundary[:, :-1], boundary[:, 1:], durations[:, np.newaxis])
-    trajectory = Trajectory(t, coefficients, info={"planner": "to_joint_space", "dt": dt})
+    info = {"planner": "to_joint_space", "dt": dt, "continuity": 2}  # quintic Hermite: C2
+    trajectory = Trajectory(t, coefficients, info=info)
     path_error = _path_error(robot, trajectory, task, t, position_only)
     singular = np.flatnonzero(inverse_condition < threshold)
     if path_error > tolerance:

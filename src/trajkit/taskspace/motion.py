@@ -88,6 +88,11 @@ def _check_law(law: Trajectory) -> Trajectory:
     return law
 
 
+#: The longest time law (s), some 31,700 years: a septic's coefficients, 1/duration^7,
+#: stay far inside float range, and past it a law's motion vanishes in its rounding.
+MAX_LAW_DURATION = 1e12
+
+
 def path_law(
     profile: Profile | Trajectory = "quintic",
     *,
@@ -132,6 +137,11 @@ def path_law(
         raise InvalidInputError(f"profile must be one of {list(PROFILES)}, got {profile!r}")
     if duration is not None:
         duration = positive_scalar("duration", duration, unit="s")
+        if duration > MAX_LAW_DURATION:
+            raise InvalidInputError(
+                f"duration must be at most {MAX_LAW_DURATION:g} s, got {duration:g} s (a time "
+                "law's coefficients scale as 1/duration^k: longer, they lose the motion)"
+            )
     limits = {"vmax": vmax, "amax": amax, "jmax": jmax}
     given = {k: positive_scalar(k, v) for k, v in limits.items() if v is not None}
     if duration is None and not given:

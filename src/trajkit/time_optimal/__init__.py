@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit import _poly
-from trajkit._validation import FloatArray, finite_scalar
+from trajkit._validation import FloatArray, finite_array, finite_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import Limits
 from trajkit.time_optimal.reachability import Channels, Stages
@@ -43,6 +43,8 @@ from trajkit.trajectory import Trajectory
 
 __all__ = ["GeometricPath", "topp"]
 
+#: Largest boundary path speed whose square is a finite float64 (1/s).
+_MAX_SPEED = float(np.sqrt(np.finfo(np.float64).max))
 #: Rounds of local tightening before the uniform slow-down.
 _ROUNDS = 12
 #: A peak within this fraction of its bound counts as kept (check()'s default rtol).
@@ -127,6 +129,13 @@ def topp(
               finite_scalar("end_speed", end_speed, unit="1/s"))  # fmt: skip
     if min(speeds) < 0.0:
         raise InvalidInputError(f"start_speed and end_speed must be >= 0, got {list(speeds)}")
+    for name, speed in zip(("start_speed", "end_speed"), speeds, strict=True):
+        # The timing works with the squared speed, which must stay a float64.
+        if speed > _MAX_SPEED:
+            raise InvalidInputError(
+                f"{name} must be at most {_MAX_SPEED:.4g} 1/s (its square must be a finite "
+                f"float64), got {speed:g} 1/s"
+            )
     velocity = _sides(limits, "velocity", ndof)
     acceleration = _sides(limits, "acceleration", ndof)
     if limits.jerk is not None:
@@ -142,8 +151,9 @@ def topp(
     result = timed(polynomial, points, x)
     if slow != 1.0:
         result = result.time_scaled(slow)
-    info = {"planner": "topp", "grid_points": points, "path_speed": np.sqrt(x) / slow,
-            "rounds": rounds, "slow_down": slow, "path_error": stray}  # fmt: skip
+    info = {"planner": "topp", "continuity": 1, "grid_points": points,
+            "path_speed": np.sqrt(x) / slow, "rounds": rounds, "slow_down": slow,
+            "path_error": stray}  # fmt: skip
     return Trajectory(result.breakpoints, result.coefficients, info=info)
 
 
@@ -289,12 +299,7 @@ def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
             raise InvalidInputError(f"grid must be at least 2 intervals, got {grid}")
         points = np.linspace(start, end, int(grid) + 1)
     else:
-        try:
-            points = np.asarray(grid, dtype=float)
-        except (TypeError, ValueError):
-            raise InvalidInputError(
-                f"grid must be a number of intervals or increasing points, got {grid!r}"
-            ) from None
+        points = finite_array("grid", grid, unit="")
         if points.ndim != 1 or points.size < 3 or not np.all(np.diff(points) > 0):
             raise InvalidInputError("grid points must be at least 3 increasing numbers")
         if points[0] != start or points[-1] != end:

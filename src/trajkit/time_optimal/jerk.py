@@ -104,8 +104,9 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float) -> T
     result = pieces[0]
     for piece in pieces[1:]:
         result = result.then(piece)
-    info = {"planner": "topp", "jerk_limited": True, "grid_points": s, "rests": rests,
-            "windows": tuple(windows), "rounds": rounds, "path_error": stray}  # fmt: skip
+    info = {"planner": "topp", "continuity": 2, "jerk_limited": True, "grid_points": s,
+            "rests": rests, "windows": tuple(windows), "rounds": rounds,
+            "path_error": stray}  # fmt: skip
     return Trajectory(result.breakpoints, result.coefficients, info=info)
 
 
