@@ -124,7 +124,7 @@ def test_limits_are_frozen() -> None:
         ({"jerk": [2.0, -1.0]}, r"jerk limits must be > 0"),
         ({"velocity": np.nan}, r"velocity must be finite"),
         ({"velocity": [1.0, np.inf]}, r"velocity must be finite"),
-        ({"velocity": "fast"}, r"velocity must be a real number, got 'fast' \(a string\)"),
+        ({"velocity": "fast"}, r"velocity must be numeric, got 'fast' \(a string\)"),
         ({"velocity": [[1.0, 2.0]]}, r"velocity must be a number or one number per joint"),
         # A 2-tuple is (lower, upper): per-joint symmetric limits must be a list.
         ({"velocity": (0.5, 2.0)}, r"must contain 0.*pass a list"),

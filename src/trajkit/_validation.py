@@ -14,11 +14,13 @@ turns user input into float64. It refuses, naming the argument:
   non-numeric dtypes (dates, records);
 * integers beyond the float64 range.
 
-Subnormal values (``0 < |x| < 2.2e-308``) are flushed to 0, with the sign kept
-only in ``-0.0``. No quantity in SI units is that small, and left in they make
-the planners' linear algebra fail (a boundary velocity of 1e-320 rad/s used to
-end in a ``LinAlgError``); the flushed value differs from the given one by
-less than 2.3e-308 in absolute terms, so every result stays right.
+Subnormal values (``0 < |x| < 2.2e-308``) are kept exactly as given, neither
+flushed nor refused: they are valid float64 numbers, and changing them would
+break exact round trips of stored samples and could turn strictly increasing
+times (``[0, 5e-324]``) into repeated ones. Where one makes a result overflow
+(a 1e-320 s duration), the planners refuse the result naming the arguments
+(:func:`finite_result`); where it is a boundary rate, the result is the
+rest-to-rest one up to that rate, as it should be.
 
 Each helper names the argument in its error message, so a user learns which
 value was wrong and what rule it broke.
@@ -37,7 +39,6 @@ from trajkit.errors import InvalidInputError
 
 FloatArray = NDArray[np.float64]
 
-_TINY = np.finfo(np.float64).tiny  # smallest normal float64, 2.2e-308
 _NUMERIC_KINDS = "iuf"  # signed and unsigned integers, floats
 
 
@@ -82,13 +83,12 @@ def _dtype_problem(dtype: np.dtype[Any]) -> str | None:
 
 
 def _refuse(name: str, value: Any, problem: str, where: str = "") -> InvalidInputError:
-    if problem == "None":
-        if not where:
+    if not where:
+        if problem == "None":
             return InvalidInputError(f"{name} is required: give a number or numbers, got None")
-        return InvalidInputError(f"{name}{where} must be a real number, got None")
-    return InvalidInputError(
-        f"{name}{where} must be a real number, got {_short_repr(value)} ({problem})"
-    )
+        return InvalidInputError(f"{name} must be numeric, got {_short_repr(value)} ({problem})")
+    shown = "None" if problem == "None" else f"{_short_repr(value)} ({problem})"
+    return InvalidInputError(f"{name} must be numeric: {name}{where} is {shown}")
 
 
 def _check_leaves(name: str, value: Any, index: tuple[int, ...] = ()) -> None:
@@ -155,19 +155,14 @@ def as_float_array(name: str, value: Any) -> FloatArray:
             raise InvalidInputError(f"{name} must be numeric, got {_short_repr(value)}") from exc
         except TypeError as exc:
             raise InvalidInputError(f"{name} must be numeric, got {_short_repr(value)}") from exc
-    if array.size and array.dtype == np.float64:
-        subnormal = (np.abs(array) < _TINY) & (array != 0.0)
-        if subnormal.any():
-            array = np.where(subnormal, np.copysign(0.0, array), array)
     return array
 
 
 def finite_array(name: str, value: ArrayLike, *, unit: str = "") -> FloatArray:
     """Return ``value`` as a float64 array, refusing NaN, inf and non-numbers.
 
-    Conversion rules (what is refused, subnormals flushed to 0) are those of
-    :func:`as_float_array`. The result may share memory with ``value``: callers
-    that keep it copy it.
+    Conversion rules (what is refused) are those of :func:`as_float_array`. The
+    result may share memory with ``value``: callers that keep it copy it.
     """
     array = as_float_array(name, value)
     if not np.all(np.isfinite(array)):
@@ -189,9 +184,7 @@ def positive_scalar(name: str, value: Any, *, unit: str = "") -> float:
     number = finite_scalar(name, value, unit=unit)
     if number <= 0.0:
         unit_text = f" {unit}" if unit else ""
-        given = float(np.asarray(value, dtype=np.float64))  # safe: the conversion passed
-        note = " (subnormal, read as 0)" if given != number else ""
-        raise InvalidInputError(f"{name} must be > 0, got {given:g}{unit_text}{note}")
+        raise InvalidInputError(f"{name} must be > 0, got {number:g}{unit_text}")
     return number
 
 
@@ -291,5 +284,49 @@ def choice(name: str, value: object, options: tuple[str | None, ...]) -> Any:
     """
     if (value is None and None in options) or (isinstance(value, str) and value in options):
         return value
-    listed = ", ".join(repr(option) for option in options)
-    raise InvalidInputError(f"{name} must be one of {listed}, got {_short_repr(value)}")
+    listed = ", ".join(repr(option) for option in options[:-1]) + f" or {options[-1]!r}"
+    raise InvalidInputError(f"{name} must be {listed}, got {_short_repr(value)}")
+
+
+def finite_result(planner: str, values: ArrayLike, arguments: Mapping[str, Any]) -> None:
+    """Refuse a computed result that overflowed float64, naming the user's arguments.
+
+    Inputs can each be finite and still combine into a result past float64
+    (``qf=1e308`` with ``duration=1e-300``); the error then names the arguments
+    the user gave, not the internal array that overflowed.
+
+    Parameters
+    ----------
+    planner : str
+        The public function's name.
+    values : array_like
+        The computed numbers (coefficients, times...) to check.
+    arguments : mapping
+        The user's arguments by their public names (None entries are left out).
+
+    Raises
+    ------
+    InvalidInputError
+        Some entry of ``values`` is inf or NaN.
+    """
+    with np.errstate(all="ignore"):
+        ok = bool(np.all(np.isfinite(values)))
+    if ok:
+        return
+    given = ", ".join(
+        f"{name}={_compact(value)}" for name, value in arguments.items() if value is not None
+    )
+    raise InvalidInputError(
+        f"{planner}: the result overflows float64 (a coefficient or time beyond 1.8e308) "
+        f"for {given}; use smaller values or longer times"
+    )
+
+
+def _compact(value: Any) -> str:
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        return _short_repr(value)
+    if array.ndim == 0:
+        return f"{float(array):.6g}"
+    return " ".join(_describe(array).split())  # one line, as every message is

@@ -17,6 +17,7 @@ from trajkit._validation import (
     FloatArray,
     as_float_array,
     finite_array,
+    finite_result,
     increasing_times,
     positive_scalar,
 )
@@ -394,9 +395,15 @@ class Trajectory:
         """
         scale = positive_scalar("factor", factor)
         bp = self._breakpoints
+        with np.errstate(all="ignore"):
+            times = bp[0] + (bp - bp[0]) * scale
+            coefficients = _poly.scale_argument(self._coefficients, 1.0 / scale)
+        # A factor like 1e-300 overflows the scaled rates: name the factor, not them.
+        finite_result("time_scaled", times, {"factor": scale})
+        finite_result("time_scaled", coefficients, {"factor": scale})
         return Trajectory(
-            bp[0] + (bp - bp[0]) * scale,
-            _poly.scale_argument(self._coefficients, 1.0 / scale),
+            times,
+            coefficients,
             start=_scale_rows(self._start, scale),
             end=_scale_rows(self._end, scale),
         )

@@ -68,7 +68,8 @@ def test_the_help_says_what_vmax_does_without_fit(capsys):
         (["figure8", "--width", "1e200"], "width 1e+200 m and height 1 m"),
         (["figure8", "--width", "1e200", "--height", "1e200"], "moves too fast"),
         (["figure8", "--period", "1e-300"], "moves too fast"),
-        (["twist", "10", "0.1", "10", "1e12", "--csv", "x.csv"], "commands; at most 1e+08"),
+        (["twist", "10", "0.1", "10", "1e12", "--csv", "x.csv"],
+         "the distance v * duration is 1e+11 m (v=0.1 m/s, omega=0.174533 rad/s"),
         (["twist", "1e308", "0.1", "10", "10"], "commands; at most 1e+08"),
     ],
 )  # fmt: skip

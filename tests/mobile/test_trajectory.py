@@ -289,7 +289,7 @@ def test_ends_themselves_keep_their_twist():
     [
         (np.zeros((2, 2)), r"t must be a number or a 1-D array, got shape \(2, 2\)"),
         ([0.0, np.nan], r"t must be finite"),
-        ("soon", r"t must be numeric"),
+        ("soon", r"t must be a real number, got 'soon' \(a string\)"),
     ],
 )
 def test_evaluate_refuses_bad_times(t, match):

@@ -28,7 +28,6 @@ from support import CLOSED_FORM, ROUNDING
 THROUGH = CLOSED_FORM  # relative to max(1, |waypoint|): through=True hits every waypoint
 DEVIATION = ROUNDING  # absolute: info["via_deviation"] is position(times) - waypoints
 SEGMENT = ROUNDING  # relative: interior segment velocity is dq / T
-TINY_STEP = 1e-6  # rad: the property sweeps snap smaller waypoint steps to 0
 
 WAYPOINTS = np.array([[0.0, 0.0], [1.0, 2.0], [3.0, 1.0], [2.0, -1.0]])
 VMAX, AMAX, JMAX = np.array([1.0, 2.0]), np.array([2.0, 3.0]), np.array([10.0, 10.0])
@@ -298,10 +297,10 @@ def blend_problems(draw, min_points=3):
     if draw(st.booleans()):  # a repeated waypoint (a stop) now and then
         i = draw(st.integers(1, n - 1))
         waypoints[i] = waypoints[i - 1]
-    # Steps below 1e-6 rad are their own tests (BUG_TINY_STEPS): snap them to 0.
-    for i in range(1, n):
-        tiny = np.abs(waypoints[i] - waypoints[i - 1]) < TINY_STEP
-        waypoints[i] = np.where(tiny, waypoints[i - 1], waypoints[i])
+    if draw(st.booleans()):  # a step far below a micro-radian, on some joints
+        i = draw(st.integers(1, n - 1))
+        tiny = draw(hnp.arrays(np.float64, (ndof,), elements=st.sampled_from([0.0, 1e-9, -1e-12])))
+        waypoints[i] = np.where(tiny != 0.0, waypoints[i - 1] + tiny, waypoints[i])
     positive = st.floats(0.1, 10.0)
     vmax = draw(hnp.arrays(np.float64, (ndof,), elements=positive))
     amax = draw(hnp.arrays(np.float64, (ndof,), elements=positive))
@@ -336,7 +335,7 @@ STEPS = st.one_of(
     st.just(0.0),
     st.floats(1e-15, 1e-6),
     st.floats(-1e-6, -1e-15),
-    st.floats(-5.0, 5.0),
+    st.floats(-5.0, 5.0, allow_subnormal=False),
 )
 
 
@@ -344,7 +343,9 @@ STEPS = st.one_of(
 def any_blend_problems(draw):
     n = draw(st.integers(2, 6))
     ndof = draw(st.integers(1, 3))
-    start = draw(hnp.arrays(np.float64, (ndof,), elements=st.just(0.0) | st.floats(-5.0, 5.0)))
+    # No subnormals: blended reads them as 0 (see trajkit._validation), not so this test.
+    starts = st.just(0.0) | st.floats(-5.0, 5.0, allow_subnormal=False)
+    start = draw(hnp.arrays(np.float64, (ndof,), elements=starts))
     steps = draw(hnp.arrays(np.float64, (n - 1, ndof), elements=STEPS))
     waypoints = start + np.concatenate([np.zeros((1, ndof)), np.cumsum(steps, axis=0)])
     positive = st.floats(0.1, 10.0)
@@ -367,9 +368,11 @@ def test_property_any_waypoints_reach_every_target(problem):
     n = waypoints.shape[0]
     assert_schedule(tr, n)
     assert_starts_and_ends_at_rest(tr, waypoints)  # to 1e-9 of max(1, |waypoint|)
-    # ... and to the rounding of the positions themselves, so that a tiny move cannot
-    # stop short unseen: 1e-12 of the largest |waypoint| (0 when all are 0).
-    scale = np.max(np.abs(waypoints))
+    # ... and to rounding, so that a tiny move cannot stop short unseen: 1e-12 of the
+    # largest |waypoint| plus the peak velocity times the duration (every blend's
+    # velocity change rounds to that, and a long segment carries it on).
+    peak = tr.extrema(1).peak
+    scale = np.max(np.abs(waypoints)) + np.max(peak) * tr.duration
     for t, waypoint in ((0.0, waypoints[0]), (tr.duration, waypoints[-1])):
         assert np.all(np.abs(tr.position(t) - waypoint) <= 1e-12 * scale)
     # The end velocity to that, plus the rounding of the switch times (ulp(T) amax).
@@ -384,7 +387,7 @@ def test_property_any_waypoints_reach_every_target(problem):
         times = np.array(tr.info["times"])
         miss = np.abs(tr.position(times) - waypoints)
         assert np.all(miss <= 1e-9 * np.maximum(1.0, np.abs(waypoints)))
-        assert np.all(miss <= 1e-10 * scale)
+        assert np.all(miss <= 1e-10 * scale)  # what blended itself guarantees
     else:
         assert tr.info["pseudo_waypoints"] is None
 
@@ -439,7 +442,7 @@ INVALID = [
     ({"waypoints": [[0.0, 0.0]]}, "must have shape (n, ndof) with n >= 2, got shape (1, 2)"),
     ({"waypoints": np.zeros((2, 2, 2))}, "waypoints must have shape (n, ndof) with n >= 2"),
     ({"waypoints": [[0.0, np.nan], [1.0, 1.0]]}, "waypoints must be finite"),
-    ({"waypoints": "abc"}, "waypoints must be a real number, got 'abc' (a string)"),
+    ({"waypoints": "abc"}, "waypoints must be numeric, got 'abc' (a string)"),
     ({"vmax": -1.0}, "vmax must be > 0 for every joint, got -1 rad/s for joint 1"),
     ({"vmax": [1.0, 2.0, 3.0]}, "vmax must be a number or 2 numbers (one per joint)"),
     ({"vmax": np.inf}, "vmax must be finite"),

@@ -10,6 +10,7 @@ import io
 import re
 import sys
 import tomllib
+import warnings
 from importlib import resources
 from pathlib import Path
 
@@ -348,3 +349,43 @@ def test_a_reduced_copy_of_every_example_runs(tmp_path, capsys, example):
         assert errors == []
         assert all(table["feasible"].to_pylist())
         assert np.isfinite(table["duration"].to_numpy()).all()
+
+
+#: What a mutated number of a sweep file becomes: extremes, wrong types, wrong shapes.
+MUTATIONS = ["0", "-1", "1e308", "-1e308", "5e-324", "1e-300", "nan", "inf", "1e20",
+             "1000000000000000000000000000000", '"x"', "true", "[]", "[1, 2]"]  # fmt: skip
+NUMBER = re.compile(r"(?<![\w.])-?\d+(\.\d+)?(e-?\d+)?(?![\w.])")
+
+
+def _mutants(count: int, seed: int = 16) -> list[tuple[str, int, str]]:
+    """``count`` (example, number's position, replacement) triples, drawn once."""
+    everything = []
+    for example in EXAMPLES:
+        text = example.read_text(encoding="utf-8")
+        for found in NUMBER.finditer(text):
+            everything += [(example.name, found.start(), value) for value in MUTATIONS]
+    picks = np.random.default_rng(seed).choice(len(everything), count, replace=False)
+    return [everything[i] for i in sorted(picks)]
+
+
+@pytest.mark.parametrize(("name", "where", "value"), _mutants(24))
+def test_a_mutated_example_is_a_summary_or_one_error_line(tmp_path, capsys, name, where, value):
+    # Exit 0 with one summary line, or 2 with one error line: never a traceback, a
+    # numpy warning, or a run that does not end (the whole campaign, 800 mutants of
+    # every number of every example, ends the same way).
+    text = next(p for p in EXAMPLES if p.name == name).read_text(encoding="utf-8")
+    found = NUMBER.match(text, where)
+    text = text[:where] + value + text[found.end() :]
+    for key, small in (("problems", 12), ("chunk", 5)):  # a short run, unless mutated
+        text = re.sub(rf"(?m)^{key} = \d+$", f"{key} = {small}", text)
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        status, stdout, err = cli(capsys, "sweep", str(path), "--out", str(tmp_path / "out"),
+                                  "--quiet", "--workers", "1")  # fmt: skip
+    if status == 0:
+        assert err == "" and len(stdout.splitlines()) == 1 and "planned" in stdout
+    else:
+        assert (status, stdout) == (2, "")
+        assert_one_error_line(err)

@@ -8,6 +8,7 @@ cannot be planned is a row with its error, never an exception; the others are un
 from __future__ import annotations
 
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -360,3 +361,26 @@ def test_a_row_is_feasible_exactly_when_its_check_is_ok():
     assert result.columns["feasible"].tolist() == [True, False, False]
     assert result.columns["worst_violation"].tolist() == [0.0, np.inf, np.inf]
     assert result.columns["peak_acceleration_1"].tolist() == [0.5, 0.5, np.inf]
+
+
+@pytest.mark.parametrize(
+    ("fixed", "duration", "speed"),
+    [
+        # 1e300 s phases: 0 * inf = NaN peaks before, so an infeasible row and a
+        # stack of overflow warnings; the move is a valid one.
+        ({"qf": 1.0, "vmax": 1e-300, "amax": 4.0}, 1e300, 1e-300),
+        ({"qf": 1e308, "vmax": 1.0, "amax": 4.0}, 1e308, 1.0),
+    ],
+    ids=["vmax-1e-300", "qf-1e308"],
+)
+def test_extreme_moves_have_honest_rows_and_no_warnings(tmp_path, fixed, duration, speed):
+    data = {"sweep": {"planner": "trapezoid", "problems": 2, "chunk": 2},
+            "robot": {"joints": 2}, "fixed": {"q0": 0.0, **fixed}}  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        summary, table = planned(data, tmp_path)
+    assert summary.failed == summary.infeasible == 0
+    np.testing.assert_allclose(table["duration"].to_numpy(), duration, rtol=1e-12)
+    np.testing.assert_allclose(matrix(table, "peak_velocity", 2), speed, rtol=1e-12)
+    np.testing.assert_array_equal(matrix(table, "peak_acceleration", 2), 4.0)
+    np.testing.assert_array_equal(table["worst_violation"].to_numpy(), 0.0)

@@ -116,7 +116,7 @@ def _forget(path: str | os.PathLike[str]) -> None:
 
 
 def _is_temporary(name: str | os.PathLike[str] | None) -> bool:
-    return name is not None and _TEMP_NAME.match(Path(os.fspath(name)).name) is not None
+    return name is not None and _TEMP_NAME.match(Path(os.fsdecode(name)).name) is not None
 
 
 def _alive(pid: int) -> bool:
@@ -317,12 +317,12 @@ class StagedFiles:
 
     def _target_of(self, exc: OSError) -> Path | None:
         """The output an error while writing the staged files is about."""
-        name = exc.filename
+        name = None if exc.filename is None else os.fsdecode(exc.filename)
         for temporary, target in self._pending:
-            if name is not None and os.fspath(name) == os.fspath(temporary):
+            if name is not None and name == os.fspath(temporary):
                 return target
         for scratch, _, target in self._folders:
-            if name is not None and os.fspath(name).startswith(os.fspath(scratch)):
+            if name is not None and name.startswith(os.fspath(scratch)):
                 return target
         if name is None and exc.errno in _WRITE_ERRNOS and self._pending:
             return self._pending[-1][1]  # write() errors name no file: the latest one

@@ -205,6 +205,52 @@ def _own_minimum(
     return own
 
 
+def _norms(rows: FloatArray) -> FloatArray:
+    """Euclidean norm of every row, without overflowing for entries near 1e308."""
+    largest = np.max(np.abs(rows), axis=1)
+    safe = np.where(largest > 0.0, largest, 1.0)
+    return largest * np.linalg.norm(rows / safe[:, np.newaxis], axis=1)
+
+
+def _plan(
+    q: FloatArray,
+    v_limit: FloatArray,
+    a_limit: FloatArray,
+    j_limit: FloatArray | None,
+    given: FloatArray | None,
+    through: bool,
+) -> tuple[Trajectory, dict[str, FloatArray], FloatArray, FloatArray]:
+    """Durations, pseudo waypoints and the checked trajectory of :func:`blended`."""
+    if given is None:
+        durations = _schedule(q, v_limit, a_limit, j_limit)
+    else:
+        problem = _shortfall(q, given, v_limit, a_limit, j_limit)
+        if problem is not None:
+            raise InfeasibleError(problem)
+        durations = given
+    targets = q
+    if through:
+        targets, durations = _pass_through(
+            q, durations, v_limit, a_limit, j_limit, fixed=given is not None
+        )
+    out_of_range = InfeasibleError(
+        f"waypoint steps up to {float(np.max(np.abs(np.diff(q, axis=0)))):.3g} rad with "
+        f"vmax down to {float(np.min(v_limit)):.3g} rad/s and amax down to "
+        f"{float(np.min(a_limit)):.3g} rad/s^2 give times or speeds float64 cannot "
+        "hold: use units that keep them within about 1e-150 to 1e150"
+    )
+    if not (np.all(np.isfinite(durations)) and np.all(np.isfinite(targets))):
+        raise out_of_range
+    try:
+        trajectory, details = _build(targets, durations, a_limit, j_limit)
+    except InvalidInputError as error:  # non-finite coefficients: the arithmetic overflowed
+        raise out_of_range from error
+    if not np.all(np.isfinite(details["via_position"])):
+        raise out_of_range
+    _verify(trajectory, details, q, through, v_limit, a_limit)
+    return trajectory, details, targets, durations
+
+
 def _schedule(
     q: FloatArray,
     v_limit: FloatArray,
@@ -212,26 +258,82 @@ def _schedule(
     j_limit: FloatArray | None,
     start: FloatArray | None = None,
 ) -> FloatArray:
-    """The shortest segment durations the iteration reaches, none below ``start``.
+    """The shortest segment durations the iterations reach, none below ``start``.
 
     Every segment starts at its own minimum (:func:`_own_minimum`), which keeps
     its velocity limit and, at the ends, its start or stop; lengthening a segment
-    keeps both. The passes then lengthen the segments whose blends do not fit.
+    keeps both. Two rules then lengthen the segments whose blends do not fit
+    (:func:`_lengthen_all`, :func:`_lengthen_faster`); neither is best
+    everywhere, so the shorter schedule of the two is kept.
     """
     T = np.maximum(_own_minimum(q, v_limit, a_limit, j_limit), _SHORTEST)
     if start is not None:
         T = np.maximum(T, start)
-    for _ in range(_ITERATIONS):
-        _, blends, _, _ = _velocities(q, T, a_limit, j_limit)
-        share = blends.copy()
-        share[1:-1] /= 2.0
-        need = np.max(share[:-1] + share[1:], axis=1)
-        if np.all(need <= T * (1 + 1e-13)):
-            break
-        T = np.maximum(T, need)
-    else:
+    found = [rule(q, T, a_limit, j_limit) for rule in (_lengthen_all, _lengthen_faster)]
+    found = [T for T in found if T is not None]
+    if not found:
         raise InfeasibleError("could not find segment durations that keep the limits")
-    return T
+    return min(found, key=lambda T: float(np.sum(T)))
+
+
+def _blend_needs(
+    q: FloatArray, T: FloatArray, a_limit: FloatArray, j_limit: FloatArray | None
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Segment velocities, the blend time each segment must hold (n - 1, ndof), shares."""
+    v, blends, _, _ = _velocities(q, T, a_limit, j_limit)
+    share = blends.copy()
+    share[1:-1] /= 2.0  # interior blends straddle their waypoint; end blends lie inside
+    return v, share[:-1] + share[1:], share
+
+
+def _lengthen_all(
+    q: FloatArray, T: FloatArray, a_limit: FloatArray, j_limit: FloatArray | None
+) -> FloatArray | None:
+    """Every segment as long as its blends need, until that holds (None: not settled)."""
+    for _ in range(_ITERATIONS):
+        _, need, _ = _blend_needs(q, T, a_limit, j_limit)
+        need = np.max(need, axis=1)
+        if np.all(need <= T * (1 + 1e-13)):
+            return T
+        T = np.maximum(T, need)
+    return None
+
+
+def _lengthen_faster(
+    q: FloatArray, T: FloatArray, a_limit: FloatArray, j_limit: FloatArray | None
+) -> FloatArray | None:
+    """Slow down the faster side of the blend that overflows a segment (None: not settled).
+
+    A segment whose blend is too long because its neighbour runs too fast need
+    not grow: the neighbour should slow down (:func:`_lengthen_all` once made a
+    1e-6 rad start segment 0.5 s long for that). For each segment that overflows,
+    the blend taking more of it is found and the faster of that blend's two
+    sides grows, by at most 25 % a pass; an overflow under 1 % is closed by
+    lengthening the segment itself. Still segments between fast ones are what
+    this rule does badly: the fast side keeps slowing down.
+    """
+    columns = np.arange(q.shape[1])
+    for _ in range(_ITERATIONS):
+        v, need, share = _blend_needs(q, T, a_limit, j_limit)
+        ratio = need / T[:, np.newaxis]
+        short = ratio > 1 + 1e-13
+        if not short.any():
+            return T
+        speed = np.abs(v)
+        padded = np.concatenate([np.zeros((1, q.shape[1])), speed, np.zeros((1, q.shape[1]))])
+        grow = np.ones_like(T)
+        for i in np.flatnonzero(short.any(axis=1)):  # segment i holds blends i and i + 1
+            k = np.where(share[i] >= share[i + 1], i, i + 1)
+            # The speeds of segments k - 1 and k, either side of blend k.
+            left, right = padded[k, columns], padded[k + 1, columns]
+            culprit = np.where(left >= right, k - 1, k)
+            culprit = np.where((culprit < 0) | (culprit >= T.size), i, culprit)
+            for c in np.unique(culprit[short[i]]):
+                amount = np.max(np.minimum(ratio[i][short[i] & (culprit == c)], 1.25))
+                grow[c] = max(grow[c], float(amount))
+        close = (short & (ratio <= 1.01)).any(axis=1)
+        T = np.where(close, np.maximum(T * grow, np.max(need, axis=1)), T * grow)
+    return None
 
 
 def _shortfall(
@@ -357,8 +459,8 @@ def _pass_through(
     grow, so the search cannot oscillate (re-planning the shortest schedule for
     every new set of points did): when the points found need longer segments,
     the next try uses the shortest schedule that fits them, starting from the
-    current one; when they fit but the points could not be placed, every
-    segment grows by 10 %.
+    current one; when the points could not be placed, every segment also grows
+    by at least 5 %.
     """
     for _ in range(_LENGTHEN):
         pseudo, converged = _pseudo_waypoints(q, T, a_limit, j_limit)
@@ -374,7 +476,9 @@ def _pass_through(
                 f"waypoint within the limits ({reason}); give longer durations"
             )
         longer = _schedule(pseudo, v_limit, a_limit, j_limit, start=T)
-        T = longer if np.any(longer > T * (1 + 1e-9)) else 1.1 * T
+        # Points that were not placed are no measure of what is needed: grow by at
+        # least 5 % then, so that the search ends in a few dozen tries.
+        T = longer if converged else np.maximum(longer, 1.05 * T)
     raise InfeasibleError(
         "could not place pseudo via points so the motion passes through every waypoint "
         "within the limits; give durations"
@@ -401,16 +505,20 @@ def blended(
     jmax : float or array_like, optional
         Jerk limit (rad/s^3): S-shaped (jerk-limited) blends instead of parabolic.
     durations : array_like, shape (n - 1,), optional
-        Time (s) between consecutive waypoints. By default each segment is as
-        short as its velocity limit and the blends at its ends allow (found by a
-        fixed-point iteration that only lengthens segments, so every limit holds;
-        with coupled blends this is the shortest such schedule it reaches, not a
-        global optimum).
+        Time (s) between consecutive waypoints. By default each segment starts
+        at the shortest it can be alone (its velocity limit; at the ends, its
+        start or stop) and the segments whose blends do not fit are lengthened
+        until they do, so every limit holds (two lengthening rules are tried and
+        the shorter schedule kept; with coupled blends this is a short schedule,
+        not a global optimum). With two waypoints it is the time-optimal
+        rest-to-rest move: the trapezoid's, or with ``jmax`` the S-curve's.
     through : bool
         Pass exactly through the interior waypoints. The blends cut the corners,
         so each interior waypoint is replaced by a pseudo waypoint pushed outwards
         until the blend passes the real one at its time (Craig's pseudo via
-        points), then the plan is made again.
+        points; found by Newton's method for the given durations). Without
+        ``durations`` the schedule is lengthened, never shortened, until such
+        points exist within the limits.
 
     Returns
     -------
@@ -425,8 +533,11 @@ def blended(
     InvalidInputError
         Malformed waypoints or limits, durations of the wrong length.
     InfeasibleError
-        Given durations too short for the limits (the message names the segment
-        and the shortest duration that works for it alone).
+        Given durations too short for the limits: the message names the first
+        segment shorter than it needs alone and that minimum, or, when each is
+        long enough alone, the first one whose blends overlap and the time they
+        need. With ``through``, durations for which no pseudo waypoints keep the
+        limits. Steps and limits whose times or speeds float64 cannot hold.
     """
     q = finite_array("waypoints", waypoints, unit="rad")
     if q.ndim == 1:
@@ -449,20 +560,12 @@ def blended(
             )
         if np.any(given <= 0):
             raise InvalidInputError("durations must all be > 0 s")
-    if given is None:
-        segment_durations = _schedule(q, v_limit, a_limit, j_limit)
-    else:
-        problem = _shortfall(q, given, v_limit, a_limit, j_limit)
-        if problem is not None:
-            raise InfeasibleError(problem)
-        segment_durations = given
-    targets = q
-    if through and n > 2:
-        targets, segment_durations = _pass_through(
-            q, segment_durations, v_limit, a_limit, j_limit, fixed=given is not None
+    # Extreme steps and limits (1e-300, 1e308) overflow or underflow on the way; no
+    # warnings then, the result is checked for what it must be instead.
+    with np.errstate(all="ignore"):
+        trajectory, details, targets, segment_durations = _plan(
+            q, v_limit, a_limit, j_limit, given, through and n > 2
         )
-    trajectory, details = _build(targets, segment_durations, a_limit, j_limit)
-    _verify(trajectory, details, q, through and n > 2, v_limit, a_limit)
     deviation = details["via_position"] - q
     info = {
         "planner": "blended",
@@ -475,7 +578,7 @@ def blended(
         "blend_times": details["blends"],
         "pseudo_waypoints": targets if through else None,
         "via_deviation": deviation,
-        "via_distance": np.linalg.norm(deviation, axis=1),
+        "via_distance": _norms(deviation),
     }
     return Trajectory(trajectory.breakpoints, trajectory.coefficients, info=info)
 
@@ -547,14 +650,15 @@ def _verify(
         raise InfeasibleError(
             "the blends do not fit the given durations within the limits; give longer durations"
         )
-    # Rounding of positions of size |q| and of the sums of the phases' steps.
-    scale = float(np.max(np.abs(q)))
-    tolerance = 1e-12 * scale
+    # Rounding: of positions of size |q|, and of the velocity after every blend (of
+    # the size of the peak velocity) carried through the whole duration.
+    scale = float(np.max(np.abs(q))) + float(np.max(velocity)) * trajectory.duration
     end = trajectory.position(trajectory.duration)
     miss = np.abs(details["via_position"][1:-1] - q[1:-1]) if through else np.zeros(1)
-    if np.any(np.abs(end - q[-1]) > tolerance) or np.any(miss > 1e-10 * scale):
+    worst = max(float(np.max(np.abs(end - q[-1]))), float(np.max(miss) / 100.0))
+    if worst > 1e-12 * scale:
         raise InfeasibleError(
-            "the blends miss the waypoints they must reach (by "
-            f"{max(float(np.max(np.abs(end - q[-1]))), float(np.max(miss))):.3g} rad); "
-            "give durations"
+            f"the blends miss the waypoints they must reach by {worst:.3g} rad, beyond "
+            f"rounding ({1e-12 * scale:.3g} rad): trajkit cannot plan this move "
+            "(please report it)"
         )

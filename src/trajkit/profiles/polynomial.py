@@ -20,6 +20,7 @@ from trajkit._validation import (
     FloatArray,
     count_dof,
     finite_array,
+    finite_result,
     finite_scalar,
     increasing_times,
     joint_vector,
@@ -232,6 +233,10 @@ def _endpoint_crossings(
                         poly = np.zeros(max(n, r + 1))
                         poly[:n] += k
                         poly[r] -= level[j]
+                        # Terms below 1e-300 of the largest (a subnormal v0 = 1e-320)
+                        # only add roots past 1e40 s, but overflow np.roots' companion
+                        # matrix into a LinAlgError: drop them.
+                        poly[np.abs(poly) * 1e300 < np.abs(poly).max()] = 0.0
                         roots = np.roots(poly[::-1]) if np.any(poly) else np.empty(0)
                         real = roots[np.abs(roots.imag) <= 1e-9 * np.abs(roots)].real
                         found.append(real[real > 0])
@@ -377,7 +382,10 @@ def _boundary_polynomial(
         coefficients = np.zeros((2 * derivatives, 1, ndof))
         coefficients[-1, 0] = start[0]
     else:
-        coefficients = hermite_pieces(start, end, np.full(ndof, T))[:, np.newaxis, :]
+        with np.errstate(over="ignore", invalid="ignore"):
+            coefficients = hermite_pieces(start, end, np.full(ndof, T))[:, np.newaxis, :]
+        finite_result(name, coefficients, {**dict(zip(names, boundary, strict=True)),
+                                           "duration": T})  # fmt: skip
     info["duration"] = T
     # The boundary conditions are the exact start and end states (the Hermite
     # polynomial reproduces them only up to rounding at T).
@@ -634,6 +642,7 @@ def polynomial(
             )
             row += 1
     solution = _solve_square(A, b)
+    finite_result("polynomial", solution, {"segments": breakpoints})
     storage = max(degree_of)
     c = np.zeros((storage + 1, m, ndof))
     for i, d in enumerate(degree_of):
@@ -683,6 +692,11 @@ def _claimed_continuity(joins: list[tuple[int, ...]], degrees: tuple[int, ...]) 
 def _read_continuity(continuity: Sequence[Sequence[int]] | None, m: int) -> list[tuple[int, ...]]:
     if continuity is None:
         return [() for _ in range(m - 1)]
+    if isinstance(continuity, str | bytes) or not isinstance(continuity, Sequence):
+        raise InvalidInputError(
+            "continuity must be a sequence of sequences of derivative orders, one per interior "
+            f"breakpoint, got {continuity!r}"
+        )
     if len(continuity) != m - 1:
         raise InvalidInputError(
             f"continuity must give one sequence of derivative orders per interior "
@@ -690,6 +704,10 @@ def _read_continuity(continuity: Sequence[Sequence[int]] | None, m: int) -> list
         )
     joins = []
     for j, orders in enumerate(continuity):
+        if isinstance(orders, str | bytes) or not isinstance(orders, Sequence):
+            raise InvalidInputError(
+                f"continuity[{j}] must be a sequence of derivative orders, got {orders!r}"
+            )
         orders = tuple(orders)
         for order in orders:
             if isinstance(order, bool) or not isinstance(order, int | np.integer) or order < 0:
@@ -713,7 +731,12 @@ def _segment_degrees(
                 "pass degrees= to say each segment's polynomial degree"
             )
         return (equations // m - 1,) * m
-    values = (degrees,) * m if isinstance(degrees, int | np.integer) else tuple(degrees)
+    if isinstance(degrees, int | np.integer):
+        values = (degrees,) * m
+    elif isinstance(degrees, Sequence | np.ndarray) and not isinstance(degrees, str | bytes):
+        values = tuple(degrees)
+    else:
+        values = ()  # refused below, by the same message
     if len(values) != m or any(
         isinstance(d, bool) or not isinstance(d, int | np.integer) or d < 0 for d in values
     ):

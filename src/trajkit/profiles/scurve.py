@@ -17,6 +17,7 @@ from trajkit._periods import whole_periods
 from trajkit._validation import (
     FloatArray,
     count_dof,
+    finite_result,
     joint_vector,
     positive_joint_vector,
     positive_scalar,
@@ -517,7 +518,12 @@ def scurve(
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
     for name, values in (("v0", start_v), ("vf", end_v)):
         _check_boundary_velocities(name, values, V, V, label="vmax=", magnitude=True)
-    args = (end - start, start_v, end_v, V, A, J)
+    arguments = {"q0": start, "qf": end, "v0": start_v, "vf": end_v, "vmax": V, "amax": A,
+                 "jmax": J}  # fmt: skip
+    with np.errstate(over="ignore"):
+        args = (end - start, start_v, end_v, V, A, J)
+    # Finite positions can still be an infinite move (qf=1e308, q0=-1e308).
+    finite_result("scurve", args[0], arguments)
     requested = None
     mode = sync
     if duration is not None:
@@ -541,6 +547,8 @@ def scurve(
         )
     if step is not None:
         solution = quantize_scurve(solution, step, args, mode)
+    # A finite move can still take longer than float64 holds (vmax=1e-300 rad/s).
+    finite_result("scurve", solution.duration, {**arguments, "duration": duration})
     plan = PhasePlan(
         start, start_v, solution.durations, solution.accelerations, solution.jerks, end, end_v,
         np.zeros(ndof),

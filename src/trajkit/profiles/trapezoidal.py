@@ -18,6 +18,7 @@ from trajkit._validation import (
     choice,
     count_dof,
     finite_array,
+    finite_result,
     joint_vector,
     positive_scalar,
 )
@@ -563,7 +564,11 @@ def trapezoidal(
     apos, aneg = _limit_magnitudes("amax", amax, ndof, "rad/s^2")
     _check_boundary_velocities("v0", start_v, vpos, vneg)
     _check_boundary_velocities("vf", end_v, vpos, vneg)
-    args = (end - start, start_v, end_v, vpos, vneg, apos, aneg)
+    arguments = {"q0": start, "qf": end, "v0": start_v, "vf": end_v, "vmax": vmax, "amax": amax}
+    with np.errstate(over="ignore"):
+        args = (end - start, start_v, end_v, vpos, vneg, apos, aneg)
+    # Finite positions can still be an infinite move (qf=1e308, q0=-1e308).
+    finite_result("trapezoidal", args[0], arguments)
     requested = None
     if duration is not None:
         requested = positive_scalar("duration", duration, unit="s")
@@ -589,6 +594,8 @@ def trapezoidal(
     )
     if step is not None:
         solution = quantize_trapezoid(solution, step, args, sync if duration is None else "time")
+    # A finite move can still take longer than float64 holds (vmax=1e-300 rad/s).
+    finite_result("trapezoidal", solution.duration, {**arguments, "duration": duration})
     trajectory = _to_trajectory(start, start_v, solution, sync, step, target=(end, end_v))
     if requested is not None and float(solution.duration) > float(requested) * (1 + 1e-12):
         blocked = ~_exact_duration(np.asarray(requested)[..., np.newaxis], args).valid

@@ -11,6 +11,7 @@ from trajkit._validation import (
     FloatArray,
     choice,
     finite_array,
+    finite_result,
     increasing_times,
     joint_vector,
 )
@@ -70,9 +71,17 @@ def heuristic_velocities(times: FloatArray, positions: FloatArray) -> FloatArray
 
 
 def _through(times: FloatArray, start: FloatArray, end: FloatArray, planner: str) -> Trajectory:
-    """One Hermite piece per segment, from per-point boundary values (orders, n, ndof)."""
+    """One Hermite piece per segment, from per-point boundary values (orders, n, ndof).
+
+    The boundary values may hold inf where the heuristics overflowed; the
+    coefficients are checked, and refused naming the user's arguments.
+    """
     durations = np.diff(times)[:, np.newaxis]
-    c = hermite_pieces(start, end, durations)
+    with np.errstate(all="ignore"):
+        c = hermite_pieces(start, end, durations)
+    # Finite inputs can still overflow (a 1e-300 s segment): say so in the user's terms.
+    positions = np.concatenate([start[0], end[0][-1:]])
+    finite_result(planner, c, {"times": times, "positions": positions})
     # Hermite pieces match the given orders at each via point: C(orders - 1). The
     # first and last points' values are the exact start and end states.
     info = {"planner": planner, "continuity": start.shape[0] - 1}
@@ -100,11 +109,12 @@ def cubic_via(
         ``n - 1`` cubic pieces, C1 at the via points (acceleration may jump).
     """
     t, q = _via_points(times, positions)
-    v = (
-        heuristic_velocities(t, q)
-        if velocities is None
-        else _per_point("velocities", velocities, q, "rad/s")
-    )
+    with np.errstate(all="ignore"):  # an overflow is refused by _through, by name
+        v = (
+            heuristic_velocities(t, q)
+            if velocities is None
+            else _per_point("velocities", velocities, q, "rad/s")
+        )
     start = np.stack([q[:-1], v[:-1]])
     end = np.stack([q[1:], v[1:]])
     return _through(t, start, end, "cubic_via")
@@ -133,14 +143,16 @@ def quintic_via(
         ``n - 1`` quintic pieces, C2 at the via points.
     """
     t, q = _via_points(times, positions)
-    v = (
-        heuristic_velocities(t, q)
-        if velocities is None
-        else _per_point("velocities", velocities, q, "rad/s")
-    )
+    with np.errstate(all="ignore"):  # an overflow is refused by _through, by name
+        v = (
+            heuristic_velocities(t, q)
+            if velocities is None
+            else _per_point("velocities", velocities, q, "rad/s")
+        )
     if accelerations is None:
         a = np.zeros_like(q)
-        a[1:-1] = (v[2:] - v[:-2]) / (t[2:] - t[:-2])[:, np.newaxis]
+        with np.errstate(all="ignore"):
+            a[1:-1] = (v[2:] - v[:-2]) / (t[2:] - t[:-2])[:, np.newaxis]
     else:
         a = _per_point("accelerations", accelerations, q, "rad/s^2")
     start = np.stack([q[:-1], v[:-1], a[:-1]])
@@ -179,17 +191,21 @@ def cubic_spline(
     start_velocity = joint_vector("v0", v0, ndof, unit="rad/s")
     end_velocity = joint_vector("vf", vf, ndof, unit="rad/s")
     choice("bc", bc, ("clamped", "natural"))
-    if bc == "clamped":
-        spline = CubicSpline(t, q, bc_type=((1, start_velocity), (1, end_velocity)))
-    elif bc == "natural":
-        if np.any(start_velocity) or np.any(end_velocity):
-            raise InvalidInputError(
-                "bc='natural' sets the end accelerations to zero and leaves the end "
-                "velocities free; use bc='clamped' to give v0 or vf"
-            )
-        spline = CubicSpline(t, q, bc_type="natural")
-    else:
-        raise InvalidInputError(f"bc must be 'clamped' or 'natural', got {bc!r}")
+    arguments = {"times": t, "positions": q}
+    # scipy refuses slopes that overflow with a bare ValueError: check them first.
+    with np.errstate(all="ignore"):
+        finite_result("cubic_spline", np.diff(q, axis=0) / np.diff(t)[:, np.newaxis], arguments)
+    with np.errstate(all="ignore"):
+        if bc == "clamped":
+            spline = CubicSpline(t, q, bc_type=((1, start_velocity), (1, end_velocity)))
+        else:
+            if np.any(start_velocity) or np.any(end_velocity):
+                raise InvalidInputError(
+                    "bc='natural' sets the end accelerations to zero and leaves the end "
+                    "velocities free; use bc='clamped' to give v0 or vf"
+                )
+            spline = CubicSpline(t, q, bc_type="natural")
+    finite_result("cubic_spline", spline.c, arguments)
     info = {"planner": "cubic_spline", "bc": bc, "continuity": 2}
     exact = [q[0], start_velocity] if bc == "clamped" else [q[0]]
     final = [q[-1], end_velocity] if bc == "clamped" else [q[-1]]

@@ -269,8 +269,9 @@ def run(
     if spec.keep == "samples":
         require("zarr")
     folder = Path(out)
-    prepare(spec, folder)
-    with lock(folder):
+    folder.mkdir(parents=True, exist_ok=True)
+    with lock(folder):  # before the record: two runs at once could both write one
+        prepare(spec, folder)
         remove_temporaries(folder)  # of a run killed while writing
         finished = done_chunks(folder, spec)
         todo = [k for k in range(spec.chunks) if k not in finished]

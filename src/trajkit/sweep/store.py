@@ -82,7 +82,7 @@ def prepare(spec: SweepSpec, out: Path) -> None:
 def lock(out: Path) -> Iterator[None]:
     """Hold ``out/.lock`` while a run writes there: a second run at once is refused.
 
-    Without ``fcntl`` (Windows) nothing is locked.
+    Without ``fcntl`` (Windows), or on a file system without locks, nothing is locked.
     """
     try:
         import fcntl
@@ -90,15 +90,19 @@ def lock(out: Path) -> Iterator[None]:
         yield
         return
     with open(out / ".lock", "a+b") as handle:
+        locked = True
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
+        except BlockingIOError:
             raise SweepError(f"another trajkit sweep is writing to {out}: wait for it to end, "
                              "or use another --out") from None  # fmt: skip
+        except OSError:  # a file system without locks (some network mounts): go on
+            locked = False
         try:
             yield
         finally:
-            fcntl.flock(handle, fcntl.LOCK_UN)
+            if locked:
+                fcntl.flock(handle, fcntl.LOCK_UN)
 
 
 #: What a run killed midway leaves: the temporaries of _durable_write and _write_samples.

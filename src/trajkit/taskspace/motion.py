@@ -16,7 +16,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from trajkit._validation import finite_array, positive_scalar
+from trajkit._validation import choice, finite_array, finite_scalar, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.profiles import cubic, quintic, scurve, septic, trapezoidal
 from trajkit.rotations import as_rotation_matrices, axis_rotation, rotation_error, slerp_axis
@@ -133,7 +133,8 @@ def path_law(
     """
     if isinstance(profile, Trajectory):
         return _check_law(profile)
-    if profile not in PROFILES:
+    # isinstance first: `array in PROFILES` compares elementwise, an ambiguous truth value.
+    if not isinstance(profile, str) or profile not in PROFILES:
         raise InvalidInputError(f"profile must be one of {list(PROFILES)}, got {profile!r}")
     if duration is not None:
         duration = positive_scalar("duration", duration, unit="s")
@@ -146,7 +147,8 @@ def path_law(
     given = {k: positive_scalar(k, v) for k, v in limits.items() if v is not None}
     if duration is None and not given:
         raise InvalidInputError("give a duration or Cartesian limits (vmax, amax, jmax)")
-    s, c = float(speed_bound), float(curvature_bound)
+    s = finite_scalar("speed_bound", speed_bound)
+    c = finite_scalar("curvature_bound", curvature_bound)
     if s <= 0.0:
         raise InvalidInputError("the path has zero length: nothing to time")
     if "jmax" in given and c > 0.0:
@@ -420,10 +422,7 @@ def through_poses(
     k = points.shape[0]
     if k < 2:
         raise InvalidInputError(f"at least 2 poses are needed, got {k}")
-    if profile not in ("cubic", "quintic", "septic", "trapezoid"):
-        raise InvalidInputError(
-            f"profile must be 'cubic', 'quintic', 'septic' or 'trapezoid', got {profile!r}"
-        )
+    choice("profile", profile, ("cubic", "quintic", "septic", "trapezoid"))
     if durations is not None:
         times = finite_array("durations", durations)
         if times.shape != (k - 1,) or np.any(times <= 0):

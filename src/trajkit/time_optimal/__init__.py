@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit import _poly
-from trajkit._validation import FloatArray, finite_array, finite_scalar
+from trajkit._validation import FloatArray, as_float_array, finite_result, finite_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import Limits
 from trajkit.time_optimal.reachability import Channels, Stages
@@ -45,6 +45,9 @@ __all__ = ["GeometricPath", "topp"]
 
 #: Largest boundary path speed whose square is a finite float64 (1/s).
 _MAX_SPEED = float(np.sqrt(np.finfo(np.float64).max))
+#: Most grid intervals a timing accepts: far finer than any path needs, and small
+#: enough for the solver's per-interval arrays to fit in memory.
+MAX_GRID = 100_000
 #: Rounds of local tightening before the uniform slow-down.
 _ROUNDS = 12
 #: A peak within this fraction of its bound counts as kept (check()'s default rtol).
@@ -77,7 +80,8 @@ def topp(
         Position limits are not the timing's business and are ignored.
     grid : int or array_like
         Number of grid intervals (uniform in ``s``; the path's breakpoints are
-        added), or the grid points themselves. More points, a shorter timing.
+        added), or the grid points themselves; at most ``MAX_GRID`` (100,000)
+        intervals. More points, a shorter timing.
     start_speed, end_speed : float
         Path speeds ``ṡ`` at the start and at the end (units of ``s`` per second),
         >= 0. Jerk-limited timings start and end at rest.
@@ -147,10 +151,20 @@ def topp(
                 f"must be 0, got {list(speeds)}"
             )
         return smoothed(polynomial, points, limits, stray)
-    x, rounds, slow = optimal_x(polynomial, points, velocity, acceleration, speeds)
-    result = timed(polynomial, points, x)
-    if slow != 1.0:
-        result = result.time_scaled(slow)
+    # Limits near the float64 range overflow in the solve; the result is checked below.
+    with np.errstate(over="ignore", invalid="ignore"):
+        x, rounds, slow = optimal_x(polynomial, points, velocity, acceleration, speeds)
+    try:
+        with np.errstate(all="ignore"):
+            result = timed(polynomial, points, x)
+            if slow != 1.0:
+                result = result.time_scaled(slow)
+    except InvalidInputError:
+        # Everything was validated above: only an overflow of the timed pieces is
+        # left (limits near 1e308 make intervals of 1e-300 s).
+        arguments = {"velocity": velocity[1], "acceleration": acceleration[1]}
+        finite_result("topp", np.inf, {**arguments, "grid": points.size - 1})
+        raise
     info = {"planner": "topp", "continuity": 1, "grid_points": points,
             "path_speed": np.sqrt(x) / slow, "rounds": rounds, "slow_down": slow,
             "path_error": stray}  # fmt: skip
@@ -283,7 +297,8 @@ def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
     Raises
     ------
     InvalidInputError
-        A grid that is not a whole number >= 2 or such a list of points.
+        A grid that is not a whole number >= 2 or such a list of points, or one
+        finer than :data:`MAX_GRID` intervals.
     """
     if breakpoints.ndim != 1 or breakpoints.size < 2 or not np.all(np.isfinite(breakpoints)):
         raise InvalidInputError("the path's breakpoints must be at least 2 finite numbers")
@@ -297,9 +312,23 @@ def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
     if isinstance(grid, (int, np.integer)):
         if grid < 2:
             raise InvalidInputError(f"grid must be at least 2 intervals, got {grid}")
+        if grid > MAX_GRID:
+            raise InvalidInputError(
+                f"grid must be at most {MAX_GRID:,} intervals (each costs memory and time), "
+                f"got {grid:,}"
+            )
         points = np.linspace(start, end, int(grid) + 1)
     else:
-        points = finite_array("grid", grid, unit="")
+        try:
+            points = as_float_array("grid", grid)
+        except InvalidInputError as exc:
+            raise InvalidInputError(
+                f"grid must be a number of intervals or increasing points, got {grid!r}: {exc}"
+            ) from None
+        if points.size > MAX_GRID + 1:
+            raise InvalidInputError(
+                f"grid must hold at most {MAX_GRID + 1:,} points, got {points.size:,}"
+            )
         if points.ndim != 1 or points.size < 3 or not np.all(np.diff(points) > 0):
             raise InvalidInputError("grid points must be at least 3 increasing numbers")
         if points[0] != start or points[-1] != end:
