@@ -445,3 +445,25 @@ def test_invalid_evaluation(call, fragment):
     plans = tk.batch.trapezoidal(**GOOD)
     with pytest.raises(tk.InvalidInputError, match=re.escape(fragment)):
         call(plans)
+
+
+@pytest.mark.parametrize("planner", ["trapezoidal", "scurve"])
+def test_batch_evaluation_from_the_end_time_on_is_the_exact_end_state(planner) -> None:
+    # Issue 16 item 6: with amax = 1e6 the phases' rounded sums leave |v(T)| ~ 1e-10
+    # (either sign); the batch must give the planned end state, as batch[i] does.
+    q0 = np.zeros((3, 2))
+    qf = np.array([[1.0, 2.0], [0.3, -1.1], [-2.0, 0.7]])
+    limits = {"vmax": 1.0, "amax": 1e6}
+    if planner == "scurve":
+        limits["jmax"] = 1e9
+    plans = getattr(tk.batch, planner)(q0, qf, **limits)
+    after = np.array([plans.durations.max(), plans.durations.max() + 1.0])
+    # A trapezoid names no end acceleration: its last phase's -amax holds (as batch[i]).
+    for order in (0, 1, 2) if planner == "scurve" else (0, 1):
+        values = plans.evaluate(after, order)  # (B, 2, ndof)
+        target = qf[:, np.newaxis, :] if order == 0 else np.zeros(1)
+        np.testing.assert_array_equal(values, np.broadcast_to(target, values.shape))
+        for i in range(len(plans)):
+            np.testing.assert_array_equal(plans.evaluate(plans.durations[i], order)[i],
+                                          plans[i].evaluate(plans[i].end_time, order))  # fmt: skip
+    assert not np.signbit(plans.velocity(plans.durations.max())).any()

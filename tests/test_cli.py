@@ -413,6 +413,19 @@ def test_the_console_prints_exactly_one_line_for_an_overflowing_duration(tmp_pat
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_peak_beyond_float_range_in_degrees_is_inf_without_a_warning(capsys):
+    import warnings
+
+    # 1e308 deg/s is 1.7e306 rad/s: the plan is finite, its peak acceleration in deg/s^2 not.
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        status, out, err = run(capsys, "plan", "cubic", "--q0", "0", "--qf", "90",
+                               "--duration", "1", "--v0", "1e308", "--deg")  # fmt: skip
+    assert (status, err) == (0, "")
+    assert [str(w.message) for w in caught] == []
+    assert out.splitlines()[-1].split()[-2:] == ["1e+308", "inf"]
+
+
 def test_warnings_of_a_successful_command_are_shown_once(capsys, monkeypatch):
     import warnings
 
@@ -588,3 +601,14 @@ def test_demo_and_run_never_replace_each_others_report(tmp_path, capsys):
     # Rerunning into one's own folder replaces one's own page.
     (out / "index.html").write_text("<html><head><title>trajkit: tiny</title>")
     assert run(capsys, "run", str(tiny_scenario(tmp_path)), "--out", str(out), "--report")[0] == 0
+
+
+def test_frames_naming_a_file_is_one_error_line_before_any_work(tmp_path, capsys):
+    taken = tmp_path / "frames"
+    taken.write_text("mine", encoding="utf-8")
+    argv = ["plan", "cubic", "--q0", "0", "0", "--qf", "1", "1", "--duration", "0.2",
+            "--sim", "mujoco", "--frames", str(taken)]  # fmt: skip
+    status, out, err = run(capsys, *argv)
+    assert (status, out) == (2, "")
+    assert err == f"trajkit: error: --frames {taken} is a file, not a folder\n"  # not "exists"
+    assert taken.read_text(encoding="utf-8") == "mine"

@@ -442,10 +442,16 @@ ELLIPSE = (
         (FIGURE8 + "width = 1e200\n", "task: width 1e+200 m and height 1 m"),  # IndexError
         (FIGURE8 + "width = 1e200\nheight = 1e200\n", "moves too fast or too slowly"),
         (FIGURE8 + "offset = [1e308, 0]\n", "task.offset: expected at most 1e+09 m"),
+        (FIGURE8 + "offset = [1.7e308, 1.7e308]\n",  # once an overflow warning first
+         "task.offset: expected at most 1e+09 m"),
         (ELLIPSE.replace("duration = 5.0", "duration = 1e12"),  # once a 728 TiB allocation
          "task: dt=0.01 s over 1e+12 s gives 1e+14 samples; at most 1e+06 are made"),
         (ELLIPSE.replace("duration = 5.0", "duration = 1e308"),  # once an OverflowError
          "task: duration must be at most 1e+12 s, got 1e+308 s"),
+        (ELLIPSE.replace("duration = 5.0", "duration = 1e-300"),  # once "breakpoints needs
+         "task: duration must be at least 1e-09 s, got 1e-300 s"),  # at least 2 times"
+        (ELLIPSE.replace("duration = 5.0", "duration = 1e-9"),  # shorter than dt: start
+         "task: the joint spline strays"),  # and end sampled, not the end alone
         (ELLIPSE.replace("duration = 5.0", "duration = 1e6"),
          "task: dt=0.01 s over 1e+06 s gives 1e+08 samples; at most 1e+06 are made"),
         ('name = "p"\n[task]\nkind = "polynomial"\ntimes = [-1e308, 1.0]\n'  # LinAlgError

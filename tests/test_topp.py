@@ -611,3 +611,15 @@ def test_a_path_that_never_moves_is_a_clear_error_or_a_standstill():
             assert "path" in str(error) and "breakpoints must be strictly" not in str(error)
         else:
             assert timed.duration == 0.0
+
+
+def test_a_path_whose_position_jumps_is_refused():
+    # s on [0, 1], then a step of 4 at s = 1: the timing once jumped too while its
+    # info claimed C1 (check() saw an unbounded velocity).
+    step = tk.Trajectory([0.0, 1.0, 2.0], [[[1.0, 0.0], [1.0, 0.0]], [[0.0, 0.0], [5.0, 0.0]]])
+    for limits in (LIMITS, tk.Limits(velocity=1.0, acceleration=1.0, jerk=5.0)):
+        with pytest.raises(InvalidInputError, match=r"position jumps by 4 at s=1 \(joint 1\)"):
+            tk.topp(step, limits, grid=20)
+    # A corner (velocity step in s) is a path topp times, stopping there.
+    corner = tk.Trajectory([0.0, 1.0, 2.0], [[[1.0], [-1.0]], [[0.0], [1.0]]])
+    assert tk.topp(corner, LIMITS, grid=20).continuity == 1

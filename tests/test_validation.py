@@ -75,6 +75,21 @@ def test_bc_given_as_an_array_is_refused_by_name() -> None:
         tk.cubic_spline([0.0, 1.0, 2.0], [0.0, 1.0, 0.0], bc=np.array([0, 0]))
 
 
+@pytest.mark.parametrize("value", [np.array([]), np.array([True, False]), "no", 1, None])
+@pytest.mark.parametrize(
+    ("name", "call"),
+    [
+        ("through", lambda v: tk.blended([0.0, 1.0, 0.0], 1.0, 1.0, through=v)),
+        ("allow_overshoot", lambda v: tk.trapezoidal(0.0, 1.0, 1.0, 1.0, allow_overshoot=v)),
+    ],
+)
+def test_flags_given_as_non_booleans_are_refused_by_name(name: str, call: Any, value: Any) -> None:
+    # `if through:` ended an empty array in "truth value is ambiguous" and read "no" as true.
+    with pytest.raises(tk.InvalidInputError, match=rf"^{name} must be True or False, got "):
+        call(value)
+    assert call(np.bool_(True)).duration > 0.0
+
+
 def test_profile_given_as_an_array_is_refused_by_name() -> None:
     with pytest.raises(tk.InvalidInputError, match=r"^profile must be one of \['linear', "):
         taskspace.path_law(np.array([1.0, 2.0]), duration=1.0)

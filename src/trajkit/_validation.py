@@ -149,7 +149,7 @@ def as_float_array(name: str, value: Any) -> FloatArray:
         except ValueError as exc:
             if isinstance(value, list | tuple):
                 raise InvalidInputError(
-                    f"{name} must be a rectangular array of numbers (every row the same "
+                    f"{name} must be numeric: a rectangular array (every row the same "
                     f"length), got the ragged sequence {_short_repr(value)}"
                 ) from exc
             raise InvalidInputError(f"{name} must be numeric, got {_short_repr(value)}") from exc
@@ -286,6 +286,17 @@ def choice(name: str, value: object, options: tuple[str | None, ...]) -> Any:
         return value
     listed = ", ".join(repr(option) for option in options[:-1]) + f" or {options[-1]!r}"
     raise InvalidInputError(f"{name} must be {listed}, got {_short_repr(value)}")
+
+
+def flag(name: str, value: object) -> bool:
+    """Return ``value`` when it is ``True`` or ``False`` (a numpy bool too).
+
+    ``if value:`` would read ``"no"`` as true and end an empty array in numpy's
+    "truth value is ambiguous".
+    """
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    raise InvalidInputError(f"{name} must be True or False, got {_short_repr(value)}")
 
 
 def finite_result(planner: str, values: ArrayLike, arguments: Mapping[str, Any]) -> None:

@@ -26,7 +26,7 @@ from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import _trapezoid_math as math
-from trajkit.profiles._phases import PhasePlan, phase_states, plan_to_trajectory
+from trajkit.profiles._phases import PhasePlan, final_states, phase_states, plan_to_trajectory
 from trajkit.profiles.scurve import SCurveSolution, quantize_scurve, solve_scurve
 from trajkit.profiles.scurve import rest_plan as scurve_rest_plan
 from trajkit.profiles.trapezoidal import (
@@ -59,7 +59,9 @@ class BatchTrajectory:
     duration continues at its final velocity with zero acceleration.
     """
 
-    __slots__ = ("_info", "_make_info", "_make_plan", "_plan", "_tables", "durations")
+    __slots__ = (
+        "_end_state", "_info", "_make_info", "_make_plan", "_plan", "_tables", "durations"
+    )  # fmt: skip
 
     def __init__(
         self,
@@ -73,6 +75,7 @@ class BatchTrajectory:
         self._plan: PhasePlan | None = None
         self._info: dict[str, Any] | None = None
         self._tables: tuple[FloatArray, ...] | None = None
+        self._end_state: FloatArray | None = None  # (rows, B, ndof), NaN: the polynomial's
 
     @property
     def plan(self) -> PhasePlan:
@@ -94,13 +97,12 @@ class BatchTrajectory:
             plan = self.plan
             t_start, p_start, v_start = phase_states(plan)
             d, a, j = plan.durations, plan.accelerations, plan.jerks
-            end = lambda x: x[..., -1]  # noqa: E731
-            last_t = end(t_start) + end(d)
-            last_v = end(v_start) + end(a) * end(d) + end(j) * end(d) ** 2 / 2
-            last_p = (
-                end(p_start) + end(v_start) * end(d) + end(a) * end(d) ** 2 / 2
-                + end(j) * end(d) ** 3 / 6
-            )  # fmt: skip
+            last_t = t_start[..., -1] + d[..., -1]
+            # The final coast starts from the targets where the phases reach them, as
+            # in problem i's own Trajectory (batch[i]); the end state holds after.
+            last_p, last_v, end_state = final_states(plan, t_start, p_start, v_start,
+                                                     self.durations)  # fmt: skip
+            self._end_state = end_state
             extend = lambda x, y: np.concatenate([x, y[..., np.newaxis]], axis=-1)  # noqa: E731
             zero = np.zeros_like(last_t)
             self._tables = (
@@ -156,6 +158,13 @@ class BatchTrajectory:
         else:
             value = j + 0 * x
         value = np.moveaxis(value, 1, -1)  # (B, m, ndof)
+        exact = self._end_state
+        if exact is not None and order < exact.shape[0]:
+            # From the end time on, the exact end state each problem was planned for
+            # (as Trajectory gives it), not the phases' rounded sums.
+            known = exact[order][:, np.newaxis, :]  # (B, 1, ndof)
+            after = (m[np.newaxis, :] >= self.durations[:, np.newaxis])[..., np.newaxis]
+            value = np.where(after & ~np.isnan(known), known, value)
         return value[:, 0, :] if scalar else value
 
     def position(self, t: ArrayLike) -> FloatArray:

@@ -419,7 +419,8 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
     if info.get("dt"):
         lines[0] += f", switching on multiples of dt={info['dt']:g} s"
     start, end = trajectory.start_state, trajectory.end_state
-    peaks = [trajectory.extrema(order).peak / to_si for order in (1, 2)]
+    with np.errstate(over="ignore"):  # a peak past 1.8e308 in degrees is shown as inf
+        peaks = [trajectory.extrema(order).peak / to_si for order in (1, 2)]
     own = info.get("minimum_durations")
     phases = info.get("phase_times")
     header = f"{'joint':>5} {'q0':>12} {'qf':>12} {'peak |v|':>12} {'peak |a|':>12}"

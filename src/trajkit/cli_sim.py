@@ -74,7 +74,13 @@ def add_sim_options(parser: argparse.ArgumentParser, *, arm: bool) -> None:
 
 
 def check_sim_options(args: argparse.Namespace) -> None:
-    """Refuse simulation outputs without ``--sim mujoco``, before any work is done."""
+    """Refuse simulation outputs without ``--sim mujoco``, before any work is done.
+
+    Also a ``--frames`` that names a file: the frames go into a folder.
+    """
+    folder = getattr(args, "frames", None)
+    if folder is not None and folder.exists() and not folder.is_dir():
+        raise InvalidInputError(f"--frames {folder} is a file, not a folder")
     if args.sim == "mujoco":
         return
     given = [

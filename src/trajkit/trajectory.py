@@ -180,10 +180,15 @@ class Trajectory:
             if off.any():
                 j = int(np.flatnonzero(off)[0])
                 where = "end_time" if at_end else "start_time"
+                # Planners reach this only when float64 cannot hold their numbers (a
+                # duration of 1e308 s underflows the coefficients): say so in those terms.
                 raise InvalidInputError(
-                    f"{name}[{order}] (the {_quantity(order)}) of joint {j + 1} is "
-                    f"{row[j]:.9g} but the pieces give {value[j]:.9g} at {where}: the exact "
-                    "boundary state must agree with the polynomial up to rounding"
+                    f"the {_quantity(order)} of joint {j + 1} at the {where.replace('_', ' ')} "
+                    f"{float(self._breakpoints[-1 if at_end else 0]):.6g} s should be "
+                    f"{row[j]:.9g} but the polynomial pieces give {value[j]:.9g}: the "
+                    "durations and values are beyond what float64 can resolve (too long a "
+                    "duration or too wide a range of magnitudes)"
+                    f" [{name}[{order}] must agree with the pieces up to rounding]"
                 )
         state.setflags(write=False)
         return state

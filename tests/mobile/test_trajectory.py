@@ -29,6 +29,7 @@ from trajkit.mobile import (
     Unicycle,
     arc_pose,
     constant_twist,
+    rotate_translate_rotate,
 )
 from trajkit.mobile.trajectory import command_times
 
@@ -289,7 +290,7 @@ def test_ends_themselves_keep_their_twist():
     [
         (np.zeros((2, 2)), r"t must be a number or a 1-D array, got shape \(2, 2\)"),
         ([0.0, np.nan], r"t must be finite"),
-        ("soon", r"t must be a real number, got 'soon' \(a string\)"),
+        ("soon", r"t must be numeric, got 'soon' \(a string\)"),
     ],
 )
 def test_evaluate_refuses_bad_times(t, match):
@@ -490,3 +491,34 @@ def test_a_turn_slowing_at_once_is_an_unbounded_angular_deceleration_after_a_dri
     }
     # A trapezoid law (velocity continuous) stays within the acceleration limit.
     assert MobileTrajectory([drive], Unicycle()).check(MobileLimits(acceleration=1.0)).ok
+
+
+# ------------------------------------ continuity claims (issue 16, item 1)
+
+_BASE_LIMITS = {"vmax": 0.5, "wmax": 1.0, "amax": 1.0, "alpha_max": 2.0}
+
+
+@pytest.mark.parametrize(
+    ("options", "expected"),
+    [
+        ({"profile": "trapezoid"}, 1),
+        ({"blend_ratio": 0.3}, 1),
+        ({"profile": "scurve", "jmax": 3.0, "angular_jmax": 5.0}, 2),
+    ],
+)
+def test_rotate_translate_rotate_claims_the_continuity_it_has(options, expected) -> None:
+    plan = rotate_translate_rotate((2.0, 1.0, 1.0), **_BASE_LIMITS, **options)
+    assert plan.info["continuity"] == plan.continuity == expected
+
+
+def test_constant_twist_is_smooth_and_a_twist_step_between_segments_is_seen() -> None:
+    arc = constant_twist(0.5, 0.2, 3.0)
+    assert arc.info["continuity"] == arc.continuity == float("inf")
+    first = Arc((0.0, 0.0, 0.0), 0.5, 0.2, 1.0)
+    same = Arc(first.end_pose, 0.5, 0.2, 1.0)
+    faster = Arc(first.end_pose, 0.7, 0.2, 1.0)
+    assert MobileTrajectory([first, same], Unicycle()).continuity == 2  # rates 0 both sides
+    assert MobileTrajectory([first, faster], Unicycle()).continuity == 0  # v steps
+    # A drive whose law's acceleration jumps (a trapezoid): twist continuous, rates not.
+    drive = Straight((0.0, 0.0, 0.0), tk.trapezoidal(0.0, 1.0, 0.5, 1.0))
+    assert MobileTrajectory([drive], Unicycle()).continuity == 1

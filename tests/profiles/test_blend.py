@@ -9,6 +9,7 @@ blends keep |jerk| <= jmax and a continuous acceleration.
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -37,11 +38,17 @@ def limits(vmax, amax, jmax=None):
     return tk.Limits(velocity=vmax, acceleration=amax, jerk=jmax)
 
 
+def pieces(tr):
+    """``tr`` without its exact boundary states: what its polynomial pieces give."""
+    return tk.Trajectory(tr.breakpoints, tr.coefficients)
+
+
 def assert_starts_and_ends_at_rest(tr, waypoints):
-    support.assert_state(tr.position(0.0), waypoints[0])
-    support.assert_state(tr.position(tr.duration), waypoints[-1])
-    for t in (0.0, tr.duration):
-        support.assert_state(tr.velocity(t), np.zeros(waypoints.shape[1]))
+    for plan in (tr, pieces(tr)):
+        support.assert_state(plan.position(0.0), waypoints[0])
+        support.assert_state(plan.position(plan.duration), waypoints[-1])
+        for t in (0.0, plan.duration):
+            support.assert_state(plan.velocity(t), np.zeros(waypoints.shape[1]))
     # The end is held: standing still afterwards.
     support.assert_state(tr.position(tr.duration + 1.0), waypoints[-1])
 
@@ -215,8 +222,10 @@ def test_a_repeated_waypoint_is_a_stop():
 def test_two_waypoints_reach_the_goal(kwargs):
     kwargs = {"vmax": 1.0, "amax": 1.0, **kwargs}
     tr = tk.blended([[0.0], [1.0]], **kwargs)
-    assert abs(tr.position(tr.duration)[0] - 1.0) <= 1e-15
-    assert abs(tr.velocity(tr.duration)[0]) <= 1e-15
+    assert tr.position(tr.duration)[0] == 1.0  # the exact end state
+    assert tr.velocity(tr.duration)[0] == 0.0
+    assert abs(pieces(tr).position(tr.duration)[0] - 1.0) <= 1e-15  # and the pieces'
+    assert abs(pieces(tr).velocity(tr.duration)[0]) <= 1e-15
     assert tr.check(limits(kwargs["vmax"], 1.0, kwargs.get("jmax"))).ok
     if "durations" in kwargs:
         assert tr.duration == 3.0
@@ -234,7 +243,7 @@ def test_two_waypoints_reach_the_goal(kwargs):
 def test_two_waypoints_on_several_joints_share_the_duration():
     w = np.array([[0.0, 1.0, -2.0], [3.0, 1.0, -2.5]])
     tr = tk.blended(w, [1.0, 1.0, 0.1], [2.0, 1.0, 0.5], jmax=[5.0, 5.0, 5.0])
-    assert np.max(np.abs(tr.position(tr.duration) - w[1])) <= 4e-16 * 3.0
+    assert np.max(np.abs(pieces(tr).position(tr.duration) - w[1])) <= 4e-16 * 3.0
     assert tr.check(limits([1.0, 1.0, 0.1], [2.0, 1.0, 0.5], [5.0, 5.0, 5.0])).ok
     slowest = max(
         tk.scurve(0.0, 3.0, 1.0, 2.0, 5.0).duration, tk.scurve(0.0, 0.5, 0.1, 0.5, 5.0).duration
@@ -261,6 +270,15 @@ def test_through_without_durations_converges():
     assert np.all(np.array(tr.info["durations"]) >= automatic)
 
 
+def test_a_subnormal_step_with_given_durations_is_planned() -> None:
+    # 2 amax d underflowed to 0 for d = 5e-324 rad: the end segment's top speed was 0 and
+    # its minimum duration inf, so 1e-9 s was refused as "needs at least inf s".
+    tr = tk.blended([[5e-324], [0.0], [0.0]], vmax=1.0, amax=0.25, durations=[1e-9, 1e-9])
+    assert tr.duration == 2e-9
+    assert tr.position(0.0)[0] == 5e-324 and tr.position(tr.end_time)[0] == 0.0
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=0.25)).ok
+
+
 # The schedule once started a still segment at 1e-9 s and grew an end segment by 1 %
 # per pass: 200 passes (x7.3) could not reach the 2.8e-6 s of two 1e-12 rad steps.
 @pytest.mark.parametrize("jmax", [None, 1.0])
@@ -269,13 +287,34 @@ def test_tiny_waypoint_steps(jmax, through):
     w = np.array([[0.0], [1e-12], [2e-12]])
     tr = tk.blended(w, 1.0, 1.0, jmax=jmax, through=through)
     # Relative to the step, not to 1 rad: a 1e-12 rad move must end at 2e-12 rad.
-    assert abs(tr.position(tr.duration)[0] - 2e-12) <= 1e-9 * 1e-12
-    assert abs(tr.velocity(tr.duration)[0]) <= 1e-9 * 1e-12 / tr.duration
+    assert abs(pieces(tr).position(tr.duration)[0] - 2e-12) <= 1e-9 * 1e-12
+    assert abs(pieces(tr).velocity(tr.duration)[0]) <= 1e-9 * 1e-12 / tr.duration
     assert tr.check(limits(1.0, 1.0, jmax)).ok
     if jmax is None and not through:
         # No corner at waypoint 1 (same speed on both sides): each end segment is
         # the fastest start from rest onto its line, 1e-12 = a T^2 / 2.
         assert tr.info["durations"] == pytest.approx([np.sqrt(2e-12)] * 2, rel=CLOSED_FORM)
+
+
+# Numbers at the ends of float64: a plan that lands, or the documented error, and no
+# numpy warning on the way. ([0, 1e308] at vmax 1e300, amax 1e12 once came back as a
+# 1e288 s plan that never moved.)
+@pytest.mark.parametrize("step", [1e-300, 1e-12, 1e300, 1e308])
+@pytest.mark.parametrize("jmax", [None, 1e-300, 1e300])
+@pytest.mark.parametrize("through", [False, True])
+def test_extreme_numbers_plan_or_refuse(step, jmax, through):
+    for vmax, amax in ((1e-300, 1e-300), (1e-300, 1e12), (1e300, 1e12), (1e300, 1e300)):
+        for w in ([0.0, step], [0.0, step, -step], [-step, step, 0.0, step]):
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")
+                try:
+                    tr = tk.blended(w, vmax, amax, jmax=jmax, through=through)
+                except tk.InfeasibleError as error:
+                    assert "give times or speeds float64 cannot hold" in str(error)
+                    continue
+                end = pieces(tr).position(tr.duration)[0]
+            assert abs(end - w[-1]) <= 1e-9 * step
+            assert np.isfinite(tr.duration) and tr.duration > 0.0
 
 
 def test_short_blends_in_a_long_move_are_kept():

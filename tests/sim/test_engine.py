@@ -202,14 +202,20 @@ def test_open_loop_holds_each_control_for_its_substeps_in_chunks():
     np.testing.assert_array_equal(rows, expected[::substeps])
 
 
-def test_a_broken_opengl_setting_is_a_clear_error_and_simulation_needs_none(tmp_path):
+def test_a_broken_opengl_setting_only_costs_the_frames(tmp_path):
+    # Simulation needs no OpenGL: a backend that fails to load is reported when frames
+    # are asked for, and the simulation itself still runs (issue 16).
     import subprocess
 
     script = (
         "import trajkit as tk\n"
         "from trajkit import sim\n"
+        "from trajkit.sim import render\n"
+        "scene = sim.rrbot_scene()\n"
+        "log = sim.run(scene, tk.cubic([0, 0], [0.1, 0.1], 0.1))\n"
+        "print(log.t.size)\n"
         "try:\n"
-        "    sim.run(sim.rrbot_scene(), tk.cubic([0, 0], [0.1, 0.1], 0.1))\n"
+        "    render.frames(scene, log, [0.0])\n"
         "except sim.SimulationUnavailableError as error:\n"
         "    print('unavailable:', error)\n"
     )
@@ -217,8 +223,10 @@ def test_a_broken_opengl_setting_is_a_clear_error_and_simulation_needs_none(tmp_
     result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                             env=env, timeout=120, cwd=tmp_path)  # fmt: skip
     assert result.returncode == 0, result.stderr[-2000:]
-    assert "unavailable: MuJoCo failed to import with MUJOCO_GL='bogus'" in result.stdout
-    assert "set MUJOCO_GL=egl, osmesa or disable (simulation needs no OpenGL)" in result.stdout
+    size, message = result.stdout.strip().split("\n")
+    assert size == "101"
+    assert message.startswith("unavailable: off-screen rendering needs an OpenGL backend")
+    assert "MUJOCO_GL='bogus' failed to load when MuJoCo was imported" in message
     env["MUJOCO_GL"] = "disable"
     script = "import trajkit as tk\nfrom trajkit import sim\n"
     script += "print(sim.run(sim.rrbot_scene(), tk.cubic([0, 0], [0.1, 0.1], 0.1)).t.size)\n"

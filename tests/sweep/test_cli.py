@@ -132,6 +132,16 @@ def test_a_missing_sweep_file_is_one_error_line(tmp_path, capsys):
     assert not out.exists()
 
 
+def test_an_out_that_is_a_file_is_one_error_line_naming_it(tmp_path, capsys):
+    source, out = tmp_path / "ok.toml", tmp_path / "taken"
+    source.write_text(good(), encoding="utf-8")
+    out.write_text("mine", encoding="utf-8")
+    status, stdout, err = cli(capsys, "sweep", str(source), "--out", str(out))
+    assert (status, stdout) == (2, "")
+    assert_one_error_line(err, f"{out} is a file, not a folder")  # not "it already exists"
+    assert out.read_text(encoding="utf-8") == "mine"
+
+
 @pytest.mark.parametrize(
     ("content", "names"),
     [

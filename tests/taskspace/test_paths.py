@@ -412,7 +412,7 @@ LINE = Line([0.0, 0.0, 0.0], [1.0, 0.0, 0.0])
         (lambda: Line([0.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0]), "start must be a point"),
         (lambda: Line([0.0, 0.0, 0.0], [[1.0, 0.0, 0.0]]), "end must be a point"),
         (lambda: Line([0.0], [1.0, 0.0, 0.0]), "start must be a point"),
-        (lambda: Line("origin", [1.0, 0.0, 0.0]), "start must be a real number"),
+        (lambda: Line("origin", [1.0, 0.0, 0.0]), "start must be numeric, got 'origin'"),
         (lambda: Arc([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 1.0), "radius would be 0"),
         (lambda: Arc([1.0, 1.0, 0.0], [1.0, 1.0, 0.0], 1.0), "radius would be 0"),
         (lambda: Arc([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0.0), "angle must be non-zero"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 import numpy as np
@@ -109,6 +110,7 @@ def constant_twist(
         "distance": abs(speed) * seconds,
         "rate_hz": rate,
         "command_count": None if rate is None else command_count(seconds, rate),
+        "continuity": math.inf,  # one constant twist
     }
     return MobileTrajectory([arc], resolve_model(model), info=info)
 
@@ -380,5 +382,8 @@ def rotate_translate_rotate(
         "phase_durations": tuple(durations),
         "turns": tuple(amount for kind, _, amount in plan if kind == "turn"),
         "distance": distance,
+        # Phases meet at rest: the twist is continuous; its rates as far as every
+        # phase law keeps its acceleration continuous (2 at most: see continuity).
+        "continuity": min(2.0, *(float(s.law.info["continuity"]) for s in segments)),
     }
     return MobileTrajectory(segments, base, limits=limits, info=info)

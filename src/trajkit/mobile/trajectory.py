@@ -9,6 +9,7 @@ Every plan in :mod:`trajkit.mobile` returns one.
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
@@ -472,6 +473,36 @@ class MobileTrajectory:
                         when = found.time_of_maximum if jump > 0 else found.time_of_minimum
                         extreme[j], when[j] = np.copysign(np.inf, jump), self._breakpoints[i]
         return found
+
+    @property
+    def continuity(self) -> float:
+        """The highest derivative of the pose that is continuous everywhere.
+
+        ``-1`` if the pose jumps (never, by construction), ``0`` if the twist
+        ``(v, ω)`` jumps somewhere, ``1`` if only its rates jump, ``2`` if the twist
+        and its rates are continuous at every junction and inside every turn or drive
+        (the rates are the highest derivative a segment reports, so no more is
+        claimed), ``math.inf`` for one arc of constant twist. Turns and drives are read
+        exactly off their time laws (:attr:`Trajectory.continuity`); junctions compare
+        the segments' ends to 1e-9 of the values' size. A planner's claim is in
+        ``info["continuity"]`` where it makes one.
+        """
+        if len(self._segments) == 1 and isinstance(self._segments[0], Arc):
+            return math.inf
+        level = 2.0
+        for part in self._segments:
+            if isinstance(part, _LawSegment):
+                # A law of order k continuity moves the pose with k continuous derivatives.
+                level = min(level, part.law.continuity)
+        for left, right in zip(self._segments[:-1], self._segments[1:], strict=True):
+            end = left.local_state(np.array([left.duration]))
+            start = right.local_state(np.array([0.0]))
+            twist = [(end[k][0], start[k][0]) for k in (3, 4)]
+            rates = [(end[k][0], start[k][0]) for k in (5, 6)]
+            for jumped_below, pairs in ((0.0, twist), (1.0, rates)):
+                if any(abs(x - y) > 1e-9 * (1.0 + abs(x) + abs(y)) for x, y in pairs):
+                    level = min(level, jumped_below)
+        return level
 
     def _junction_twists(self) -> list[tuple[FloatArray, FloatArray]]:
         """``(v, ω)`` at the end of each segment and at the start of the next."""

@@ -14,7 +14,14 @@ import numpy as np
 from trajkit._validation import FloatArray
 from trajkit.trajectory import Trajectory
 
-__all__ = ["PhasePlan", "merge_breakpoints", "phase_states", "plan_info", "plan_to_trajectory"]
+__all__ = [
+    "PhasePlan",
+    "final_states",
+    "merge_breakpoints",
+    "phase_states",
+    "plan_info",
+    "plan_to_trajectory",
+]
 
 # Breakpoints closer than this (relative to the whole duration) are the same switch
 # computed along two roundings; anything longer is a phase and is kept, however short.
@@ -143,44 +150,7 @@ def plan_to_trajectory(plan: PhasePlan, duration: float, info: dict[str, object]
     ndof, count = plan.durations.shape
     # An extra open-ended coasting phase per joint keeps kinematics consistent.
     ends = t_start[:, -1] + plan.durations[:, -1]
-    final_v = (
-        v_start[:, -1]
-        + plan.accelerations[:, -1] * plan.durations[:, -1]
-        + (plan.jerks[:, -1] * plan.durations[:, -1] ** 2 / 2.0)
-    )
-    d_last = plan.durations[:, -1]
-    final_p = (
-        p_start[:, -1]
-        + v_start[:, -1] * d_last
-        + plan.accelerations[:, -1] * d_last**2 / 2.0
-        + plan.jerks[:, -1] * d_last**3 / 6.0
-    )
-    end_state = None
-    if plan.end_position is not None and plan.end_velocity is not None:
-        target_p = np.broadcast_to(plan.end_position, final_p.shape)
-        target_v = np.broadcast_to(plan.end_velocity, final_v.shape)
-        # Only where the phases do reach the target (up to rounding); anything else
-        # is a planning defect this conversion must not paper over.
-        d, a, j = plan.durations, plan.accelerations, plan.jerks
-        # The size of the terms summed: what the rounding of the sums scales with.
-        v_terms = np.abs(v_start).max(axis=1) + (np.abs(a * d) + np.abs(j * d**2 / 2)).sum(axis=1)
-        p_terms = np.abs(p_start).max(axis=1) + (
-            np.abs(v_start * d) + np.abs(a * d**2 / 2) + np.abs(j * d**3 / 6)
-        ).sum(axis=1)
-        reached = _close(final_p, target_p, p_terms) & _close(final_v, target_v, v_terms)
-        final_p = np.where(reached, target_p, final_p)
-        final_v = np.where(reached, target_v, final_v)
-        # A joint that arrives early and coasts on at a speed is elsewhere at the end.
-        coasting = (ends < duration * (1.0 - 4.0 * _MERGE)) & (final_v != 0.0)
-        rows = [np.where(reached & ~coasting, final_p, np.nan), np.where(reached, final_v, np.nan)]
-        if plan.end_acceleration is not None:
-            final_a = plan.accelerations[:, -1] + plan.jerks[:, -1] * d_last
-            target_a = np.broadcast_to(plan.end_acceleration, final_a.shape)
-            a_terms = np.abs(a).max(axis=1) + np.abs(j * d).sum(axis=1)
-            # An early joint coasts at zero acceleration: the polynomial's 0 is exact.
-            good = reached & _close(final_a, target_a, a_terms)
-            rows.append(np.where(good, target_a, np.nan))
-        end_state = np.stack(rows)
+    final_p, final_v, end_state = final_states(plan, t_start, p_start, v_start, duration)
     starts = np.concatenate([t_start, ends[:, np.newaxis]], axis=1)
     p0 = np.concatenate([p_start, final_p[:, np.newaxis]], axis=1)
     v0 = np.concatenate([v_start, final_v[:, np.newaxis]], axis=1)
@@ -205,6 +175,58 @@ def plan_to_trajectory(plan: PhasePlan, duration: float, info: dict[str, object]
     if duration == 0.0:
         end_state = None  # a standstill: its one value is its start
     return Trajectory(breakpoints, coefficients, info=info, end=end_state)
+
+
+def final_states(
+    plan: PhasePlan,
+    t_start: FloatArray,
+    p_start: FloatArray,
+    v_start: FloatArray,
+    duration: FloatArray | float,
+) -> tuple[FloatArray, FloatArray, FloatArray | None]:
+    """Where each joint's phases end, and the exact end state they were planned for.
+
+    Vectorized over leading axes; ``duration`` is the (common) end time of each
+    problem, broadcastable to ``(...)``. Returns the position and velocity the final
+    coast starts from, shape ``(..., ndof)`` (the plan's targets where the phases reach
+    them up to rounding), and the exact end state ``(rows, ..., ndof)`` (row ``i``:
+    derivative ``i``, NaN where the polynomial's own value stands), or None when the
+    plan names no targets.
+    """
+    d, a, j = plan.durations, plan.accelerations, plan.jerks
+    last = lambda x: x[..., -1]  # noqa: E731
+    final_v = last(v_start) + last(a) * last(d) + last(j) * last(d) ** 2 / 2.0
+    final_p = (
+        last(p_start) + last(v_start) * last(d) + last(a) * last(d) ** 2 / 2.0
+        + last(j) * last(d) ** 3 / 6.0
+    )  # fmt: skip
+    if plan.end_position is None or plan.end_velocity is None:
+        return final_p, final_v, None
+    target_p = np.broadcast_to(plan.end_position, final_p.shape)
+    target_v = np.broadcast_to(plan.end_velocity, final_v.shape)
+    # Only where the phases do reach the target (up to rounding); anything else is a
+    # planning defect this conversion must not paper over.
+    # The size of the terms summed: what the rounding of the sums scales with.
+    v_terms = np.abs(v_start).max(axis=-1) + (np.abs(a * d) + np.abs(j * d**2 / 2)).sum(axis=-1)
+    p_terms = np.abs(p_start).max(axis=-1) + (
+        np.abs(v_start * d) + np.abs(a * d**2 / 2) + np.abs(j * d**3 / 6)
+    ).sum(axis=-1)
+    reached = _close(final_p, target_p, p_terms) & _close(final_v, target_v, v_terms)
+    final_p = np.where(reached, target_p, final_p)
+    final_v = np.where(reached, target_v, final_v)
+    # A joint that arrives early and coasts on at a speed is elsewhere at the end.
+    ends = last(t_start) + last(d)
+    span = np.asarray(duration, dtype=np.float64)[..., np.newaxis]
+    coasting = (ends < span * (1.0 - 4.0 * _MERGE)) & (final_v != 0.0)
+    rows = [np.where(reached & ~coasting, final_p, np.nan), np.where(reached, final_v, np.nan)]
+    if plan.end_acceleration is not None:
+        final_a = last(a) + last(j) * last(d)
+        target_a = np.broadcast_to(plan.end_acceleration, final_a.shape)
+        a_terms = np.abs(a).max(axis=-1) + np.abs(j * d).sum(axis=-1)
+        # An early joint coasts at zero acceleration: the polynomial's 0 is exact.
+        good = reached & _close(final_a, target_a, a_terms)
+        rows.append(np.where(good, target_a, np.nan))
+    return final_p, final_v, np.stack(rows)
 
 
 def _close(value: FloatArray, target: FloatArray, scale: FloatArray) -> FloatArray:

@@ -19,7 +19,7 @@ import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike
 
-from trajkit._validation import FloatArray, finite_array, positive_joint_vector
+from trajkit._validation import FloatArray, finite_array, flag, positive_joint_vector
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
 from trajkit.trajectory import Trajectory
@@ -176,7 +176,7 @@ def _end_minimum(
     may stop it sooner.
     """
     if jmax is None:
-        top = np.sqrt(2.0 * amax * d)
+        top = np.sqrt(2.0 * amax) * np.sqrt(d)  # 2 amax d underflows for a subnormal step
     else:
         b = amax / jmax
         unsaturated = np.cbrt(d) ** 2 * np.cbrt(jmax)  # 2 v sqrt(v / jmax) = 2 d
@@ -212,6 +212,27 @@ def _norms(rows: FloatArray) -> FloatArray:
     return largest * np.linalg.norm(rows / safe[:, np.newaxis], axis=1)
 
 
+def _out_of_range(q: FloatArray, v_limit: FloatArray, a_limit: FloatArray) -> InfeasibleError:
+    """The error for steps and limits whose arithmetic overflows or underflows."""
+    return InfeasibleError(
+        f"waypoint steps up to {float(np.max(np.abs(np.diff(q, axis=0)))):.3g} rad with "
+        f"vmax down to {float(np.min(v_limit)):.3g} rad/s and amax down to "
+        f"{float(np.min(a_limit)):.3g} rad/s^2 give times or speeds float64 cannot "
+        "hold: use units that keep them within about 1e-150 to 1e150"
+    )
+
+
+def _extreme(q: FloatArray, v_limit: FloatArray, a_limit: FloatArray, duration: float) -> bool:
+    """Whether steps, vmax, amax or the duration lie far from 1 (beyond 1e-100..1e100).
+
+    There the arithmetic under- or overflows (1e-300 squared is 0), so a failed
+    check means numbers float64 cannot plan with, not a planning defect.
+    """
+    sizes = np.concatenate([np.abs(np.diff(q, axis=0)).ravel(), v_limit, a_limit, [duration]])
+    sizes = sizes[sizes > 0.0]
+    return not bool(np.all((sizes >= 1e-100) & (sizes <= 1e100)))
+
+
 def _plan(
     q: FloatArray,
     v_limit: FloatArray,
@@ -233,12 +254,7 @@ def _plan(
         targets, durations = _pass_through(
             q, durations, v_limit, a_limit, j_limit, fixed=given is not None
         )
-    out_of_range = InfeasibleError(
-        f"waypoint steps up to {float(np.max(np.abs(np.diff(q, axis=0)))):.3g} rad with "
-        f"vmax down to {float(np.min(v_limit)):.3g} rad/s and amax down to "
-        f"{float(np.min(a_limit)):.3g} rad/s^2 give times or speeds float64 cannot "
-        "hold: use units that keep them within about 1e-150 to 1e150"
-    )
+    out_of_range = _out_of_range(q, v_limit, a_limit)
     if not (np.all(np.isfinite(durations)) and np.all(np.isfinite(targets))):
         raise out_of_range
     try:
@@ -272,6 +288,8 @@ def _schedule(
     found = [rule(q, T, a_limit, j_limit) for rule in (_lengthen_all, _lengthen_faster)]
     found = [T for T in found if T is not None]
     if not found:
+        if _extreme(q, v_limit, a_limit, float(np.sum(T))):
+            raise _out_of_range(q, v_limit, a_limit)
         raise InfeasibleError("could not find segment durations that keep the limits")
     return min(found, key=lambda T: float(np.sum(T)))
 
@@ -293,6 +311,8 @@ def _lengthen_all(
     for _ in range(_ITERATIONS):
         _, need, _ = _blend_needs(q, T, a_limit, j_limit)
         need = np.max(need, axis=1)
+        if not np.all(np.isfinite(need)):
+            return None  # overflowed: no schedule to find
         if np.all(need <= T * (1 + 1e-13)):
             return T
         T = np.maximum(T, need)
@@ -316,6 +336,8 @@ def _lengthen_faster(
     for _ in range(_ITERATIONS):
         v, need, share = _blend_needs(q, T, a_limit, j_limit)
         ratio = need / T[:, np.newaxis]
+        if not np.all(np.isfinite(ratio)):
+            return None  # overflowed: no schedule to find
         short = ratio > 1 + 1e-13
         if not short.any():
             return T
@@ -376,7 +398,7 @@ def _shortfall(
 
 def _pseudo_waypoints(
     q: FloatArray, T: FloatArray, a_limit: FloatArray, j_limit: FloatArray | None
-) -> tuple[FloatArray, bool]:
+) -> tuple[FloatArray, bool | None]:
     """Pseudo waypoints whose blends pass every interior waypoint at its time.
 
     For fixed durations each joint is its own problem: interior pseudo points
@@ -385,7 +407,8 @@ def _pseudo_waypoints(
     tridiagonal; Newton's method with a halving line search solves it. (Moving
     each point by its miss alone diverges once the blends take most of their
     segments: the rate of the miss in ``p`` then exceeds 1.) Returns the points
-    and whether every joint converged; the caller checks the limits.
+    and whether every joint converged (None: the miss overflows float64); the
+    caller checks the limits.
     """
     ndof = q.shape[1]
     pseudo = q.copy()
@@ -399,6 +422,8 @@ def _pseudo_waypoints(
         x = q[:, joint : joint + 1].copy()
         miss, banded = _through_system(x, target, T, a, j)
         worst = float(np.max(np.abs(miss)))
+        if not np.isfinite(worst):
+            return pseudo, None  # overflowed: nothing to solve
         for _ in range(_NEWTON):
             if worst <= tolerance:
                 break
@@ -464,6 +489,8 @@ def _pass_through(
     """
     for _ in range(_LENGTHEN):
         pseudo, converged = _pseudo_waypoints(q, T, a_limit, j_limit)
+        if converged is None or not np.all(np.isfinite(T)):
+            raise _out_of_range(q, v_limit, a_limit)
         problem = _shortfall(pseudo, T, v_limit, a_limit, j_limit) if converged else None
         if converged and problem is None:
             return pseudo, T
@@ -540,6 +567,7 @@ def blended(
         limits. Steps and limits whose times or speeds float64 cannot hold.
     """
     q = finite_array("waypoints", waypoints, unit="rad")
+    through = flag("through", through)
     if q.ndim == 1:
         q = q[:, np.newaxis]
     if q.ndim != 2 or q.shape[0] < 2:
@@ -580,7 +608,21 @@ def blended(
         "via_deviation": deviation,
         "via_distance": _norms(deviation),
     }
-    return Trajectory(trajectory.breakpoints, trajectory.coefficients, info=info)
+    # Exact boundary states: at rest at the first and last waypoints (and, jerk-limited,
+    # at zero acceleration); the pieces' own end velocity is a residue such as -8e-11.
+    rows = 2 if j_limit is None else 3
+    start, end = np.zeros((rows, ndof)), np.zeros((rows, ndof))
+    start[0], end[0] = q[0], q[-1]
+    try:
+        return Trajectory(
+            trajectory.breakpoints, trajectory.coefficients, info=info, start=start, end=end
+        )
+    except InvalidInputError:
+        # Pieces that do not start or end at rest to float64's resolution: a blend of
+        # 1e-303 s (vmax = amax = 1e300) vanishes beside its 1e-9 s segment.
+        if _extreme(q, v_limit, a_limit, trajectory.duration):
+            raise _out_of_range(q, v_limit, a_limit) from None
+        raise
 
 
 def _build(
@@ -646,17 +688,29 @@ def _verify(
     ``through``, pass the interior ones.
     """
     velocity, acceleration = trajectory.extrema(1).peak, trajectory.extrema(2).peak
-    if np.any(velocity > v_limit * (1 + 1e-9)) or np.any(acceleration > a_limit * (1 + 1e-9)):
+    end = trajectory.position(trajectory.duration)
+    # A failed check below is then the arithmetic's, not a planning defect.
+    extreme = _extreme(q, v_limit, a_limit, trajectory.duration)
+    finite = np.all(np.isfinite(velocity)) and np.all(np.isfinite(acceleration))
+    if not (finite and np.all(np.isfinite(end))):
+        raise _out_of_range(q, v_limit, a_limit)
+    # Written so that NaN fails them too.
+    if not (
+        np.all(velocity <= v_limit * (1 + 1e-9)) and np.all(acceleration <= a_limit * (1 + 1e-9))
+    ):
+        if extreme:
+            raise _out_of_range(q, v_limit, a_limit)
         raise InfeasibleError(
             "the blends do not fit the given durations within the limits; give longer durations"
         )
     # Rounding: of positions of size |q|, and of the velocity after every blend (of
     # the size of the peak velocity) carried through the whole duration.
     scale = float(np.max(np.abs(q))) + float(np.max(velocity)) * trajectory.duration
-    end = trajectory.position(trajectory.duration)
     miss = np.abs(details["via_position"][1:-1] - q[1:-1]) if through else np.zeros(1)
     worst = max(float(np.max(np.abs(end - q[-1]))), float(np.max(miss) / 100.0))
-    if worst > 1e-12 * scale:
+    if not worst <= 1e-12 * scale:
+        if extreme:
+            raise _out_of_range(q, v_limit, a_limit)
         raise InfeasibleError(
             f"the blends miss the waypoints they must reach by {worst:.3g} rad, beyond "
             f"rounding ({1e-12 * scale:.3g} rad): trajkit cannot plan this move "

@@ -19,6 +19,7 @@ from trajkit._validation import (
     count_dof,
     finite_array,
     finite_result,
+    flag,
     joint_vector,
     positive_scalar,
 )
@@ -549,6 +550,7 @@ def trapezoidal(
     start_v = joint_vector("v0", v0, ndof, unit="rad/s")
     end_v = joint_vector("vf", vf, ndof, unit="rad/s")
     sync = _read_sync(sync)
+    allow_overshoot = flag("allow_overshoot", allow_overshoot)
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
     if blend_ratio is not None or blend_time is not None:
         if np.any(start_v) or np.any(end_v):

@@ -292,7 +292,9 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
             choices=("feedforward", "kanayama", "linearization", "pure-pursuit"),
         )  # fmt: skip
         task["offset"] = table.numbers("offset", (0.0, 0.0), count=2)
-        if not float(np.hypot(*task["offset"])) <= MAX_TRAVEL:
+        with np.errstate(over="ignore"):  # [1.7e308, 1.7e308]: inf, refused below
+            away = float(np.hypot(*task["offset"]))
+        if not away <= MAX_TRAVEL:
             raise ScenarioError(f"{table.where('offset')}: expected at most {MAX_TRAVEL:g} m "
                                 "from the curve's start, got "
                                 f"{task['offset'].tolist()}")  # fmt: skip

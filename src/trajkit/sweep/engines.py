@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from trajkit.errors import InvalidInputError
-from trajkit.sweep.spec import SweepSpec
+from trajkit.sweep.spec import SweepError, SweepSpec
 from trajkit.sweep.store import (
     done_chunks,
     encode_chunk,
@@ -254,7 +254,7 @@ def run(
     InvalidInputError
         An unknown engine, a bad ``workers``, or ``address`` with the local engine.
     SweepError
-        ``out`` holds a different sweep, or another run is writing there.
+        ``out`` holds a different sweep, or another run is writing there, or is a file.
     ScaleUnavailableError
         pyarrow (or zarr, or ray) is not installed.
     """
@@ -269,6 +269,8 @@ def run(
     if spec.keep == "samples":
         require("zarr")
     folder = Path(out)
+    if folder.exists() and not folder.is_dir():  # mkdir would say only "File exists"
+        raise SweepError(f"{folder} is a file, not a folder: a sweep writes into a folder")
     folder.mkdir(parents=True, exist_ok=True)
     with lock(folder):  # before the record: two runs at once could both write one
         prepare(spec, folder)

@@ -110,7 +110,8 @@ def _sample_times(duration: float, dt: float) -> FloatArray:
         )
     count = int(np.floor(ratio + 1e-9))
     times = np.arange(count + 1) * dt
-    if duration - times[-1] > 1e-9 * max(1.0, duration):
+    # A task shorter than the tolerance still keeps its start: two times at least.
+    if count == 0 or duration - times[-1] > 1e-9 * max(1.0, duration):
         times = np.append(times, duration)
     else:
         times[-1] = duration

@@ -91,6 +91,9 @@ def _check_law(law: Trajectory) -> Trajectory:
 #: The longest time law (s), some 31,700 years: a septic's coefficients, 1/duration^7,
 #: stay far inside float range, and past it a law's motion vanishes in its rounding.
 MAX_LAW_DURATION = 1e12
+#: The shortest time law (s): shorter, the joint splines' coefficients (1/duration^5)
+#: overflow float64 and the error would name internals instead of the duration.
+MIN_LAW_DURATION = 1e-9
 
 
 def path_law(
@@ -111,7 +114,8 @@ def path_law(
         The shape of ``u(t)``; a 1-D Trajectory from 0 to 1 is used as given.
         ``linear`` is constant rate (a periodic curve traced uniformly).
     duration : float, optional
-        Time (s) for the whole path. Without it, the shortest duration the limits allow.
+        Time (s) for the whole path, from 1e-9 s (:data:`MIN_LAW_DURATION`) to 1e12 s
+        (:data:`MAX_LAW_DURATION`). Without it, the shortest duration the limits allow.
     speed_bound, curvature_bound : float
         Bounds on ``|dp/du|`` and ``|d²p/du²|`` over the path (see
         :attr:`Path.speed_bound`).
@@ -142,6 +146,11 @@ def path_law(
             raise InvalidInputError(
                 f"duration must be at most {MAX_LAW_DURATION:g} s, got {duration:g} s (a time "
                 "law's coefficients scale as 1/duration^k: longer, they lose the motion)"
+            )
+        if duration < MIN_LAW_DURATION:
+            raise InvalidInputError(
+                f"duration must be at least {MIN_LAW_DURATION:g} s, got {duration:g} s (a time "
+                "law's coefficients scale as 1/duration^k: shorter, they overflow)"
             )
     limits = {"vmax": vmax, "amax": amax, "jmax": jmax}
     given = {k: positive_scalar(k, v) for k, v in limits.items() if v is not None}

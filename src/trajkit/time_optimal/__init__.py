@@ -37,6 +37,7 @@ from trajkit.time_optimal.timing import (
     as_polynomial,
     interval_peaks,
     pieces_of,
+    rest_states,
     timed,
 )
 from trajkit.trajectory import Trajectory
@@ -101,7 +102,8 @@ def topp(
     Raises
     ------
     InvalidInputError
-        Malformed path, limits, grid or speeds, or a path that never moves.
+        Malformed path, limits, grid or speeds, a path that never moves, or one
+        whose position jumps (no timing can follow a step).
     InfeasibleError
         The boundary speeds cannot be met within the limits (the message says the
         fastest that can), or no timing keeps every limit between grid points with
@@ -124,6 +126,14 @@ def topp(
         )
     points = grid_points(np.asarray(path.breakpoints, dtype=float), grid)
     polynomial, stray = as_polynomial(path, points)
+    steps = polynomial.jumps(0)
+    if steps.any():  # timed, it would jump too, with its info claiming C1
+        i, j = (int(k[0]) for k in np.nonzero(steps))
+        where = float(polynomial.breakpoints[i + 1])
+        raise InvalidInputError(
+            f"the path's position jumps by {steps[i, j]:.6g} at s={where:.6g} (joint {j + 1}): "
+            "a path to time must be continuous"
+        )
     ndof = polynomial.ndof
     if not np.any(polynomial.evaluate(points, 1)) and not np.any(
         polynomial.extrema(1).peak
@@ -168,7 +178,8 @@ def topp(
     info = {"planner": "topp", "continuity": 1, "grid_points": points,
             "path_speed": np.sqrt(x) / slow, "rounds": rounds, "slow_down": slow,
             "path_error": stray}  # fmt: skip
-    return Trajectory(result.breakpoints, result.coefficients, info=info)
+    return Trajectory(result.breakpoints, result.coefficients, info=info,
+                      **rest_states(polynomial, points, speeds))  # fmt: skip
 
 
 def optimal_x(

@@ -36,7 +36,7 @@ from trajkit import _poly
 from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
 from trajkit.limits import Limits
-from trajkit.time_optimal.timing import compose, pieces_of
+from trajkit.time_optimal.timing import compose, pieces_of, rest_states
 from trajkit.trajectory import Trajectory
 
 __all__ = ["moving_average", "smoothed"]
@@ -107,7 +107,8 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float) -> T
     info = {"planner": "topp", "continuity": 2, "jerk_limited": True, "grid_points": s,
             "rests": rests, "windows": tuple(windows), "rounds": rounds,
             "path_error": stray}  # fmt: skip
-    return Trajectory(result.breakpoints, result.coefficients, info=info)
+    return Trajectory(result.breakpoints, result.coefficients, info=info,
+                      **rest_states(path, s, (0.0, 0.0)))  # fmt: skip
 
 
 def _scale_to(curve: Trajectory, limits: Limits) -> float:

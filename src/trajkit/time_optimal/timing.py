@@ -18,7 +18,15 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.profiles.polynomial import hermite_pieces
 from trajkit.trajectory import Trajectory
 
-__all__ = ["GeometricPath", "as_polynomial", "compose", "interval_peaks", "pieces_of", "timed"]
+__all__ = [
+    "GeometricPath",
+    "as_polynomial",
+    "compose",
+    "interval_peaks",
+    "pieces_of",
+    "rest_states",
+    "timed",
+]
 
 
 class GeometricPath(Protocol):
@@ -161,6 +169,23 @@ def compose(path: Trajectory, times: FloatArray, sigma: FloatArray, piece: np.nd
         power = grown
     coefficients = result[:, ::-1, :].transpose(1, 0, 2)  # highest power first, (K + 1, M, ndof)
     return Trajectory(times, np.ascontiguousarray(coefficients))
+
+
+def rest_states(
+    path: Trajectory, s: FloatArray, speeds: tuple[float, float]
+) -> dict[str, FloatArray]:
+    """``start`` and ``end`` for the timed :class:`Trajectory` of ``path`` on ``s``.
+
+    The path's positions at ``s[0]`` and ``s[-1]``, and a velocity of 0 where the
+    path speed there (``speeds``) is 0, ``NaN`` (the pieces' own value) otherwise:
+    the timed pieces' own end velocity is a rounding residue such as 3e-14 rad/s.
+    """
+    ends = path.evaluate(s[[0, -1]])
+    states = {}
+    for i, (name, speed) in enumerate(zip(("start", "end"), speeds, strict=True)):
+        velocity = np.full(ends.shape[1], 0.0 if speed == 0.0 else np.nan)
+        states[name] = np.stack([ends[i], velocity])
+    return states
 
 
 def interval_peaks(
