@@ -7,7 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 import pytest
-from hypothesis import given, reject, settings
+from hypothesis import example, given, reject, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
@@ -1096,6 +1096,13 @@ def _sizes(bound: float) -> st.SearchStrategy[float]:
     amax=st.floats(1e-2, 1e7),
     planner=st.sampled_from(["trapezoidal", "scurve"]),
 )
+@example(  # joint 1 arrives 1e-14 s early and coasts 1e-17 rad on: still qf exactly
+    q0=np.array([0.0, 4.0]),
+    distance=np.array([0.001, 0.001]),
+    vf=np.array([0.001, 0.001]),
+    amax=1.0,
+    planner="trapezoidal",
+)
 def test_property_limit_driven_plans_end_exactly_in_their_boundary_state(
     q0, distance, vf, amax, planner
 ) -> None:
@@ -1145,8 +1152,8 @@ def test_exact_boundary_states_given_to_the_constructor() -> None:
     assert tr.position(0.5)[0] == 0.5
     assert Trajectory([0.0, 1.0], c, start=[0.0]).position(0.0)[0] == 0.0
     with _raises_invalid(
-        r"the position of joint 1 at the end time 1 s should be 1.1 but the polynomial "
-        r"pieces give 1: .*beyond what float64 can resolve.*\[end\[0\] must agree"
+        r"end\[0\]: the position of joint 1 at the end time 1 s is given as 1.1 but the "
+        r"polynomial pieces give 1; an exact boundary state must agree"
     ):
         Trajectory([0.0, 1.0], c, end=[1.1])
     with _raises_invalid(r"end must have shape \(r, ndof\) = \(r, 1\).*got shape \(2, 2\)"):
@@ -1155,10 +1162,31 @@ def test_exact_boundary_states_given_to_the_constructor() -> None:
         Trajectory([0.0, 1.0], c, start=[[0.0], [np.inf]])
 
 
+def test_an_exact_end_state_for_small_values_is_not_a_different_motion() -> None:
+    # The tolerance is relative to the values' size, with no absolute floor: 5e-7 m is
+    # not 1e-9 m "up to rounding".
+    c = [[[1e-9]], [[0.0]]]  # q = 1e-9 t
+    with _raises_invalid(r"end\[0\]: the position of joint 1 .* is given as 5e-07"):
+        Trajectory([0.0, 1.0], c, end=[5e-7])
+    assert Trajectory([0.0, 1.0], c, end=[1e-9 * (1 + 1e-12)]).position(1.0)[0] > 1e-9
+
+
+def test_a_stiff_move_keeps_its_pieces_where_float64_cannot_resolve_its_phases() -> None:
+    # 1e-9 s phases at t = 1000 s: the pieces end at 1e-5 rad/s, not 0. Planning must not
+    # fail, nor claim an end state the pieces do not reach: the polynomial's value stands
+    # where it misses, the exact target where it agrees (the positions here).
+    tr = tk.trapezoidal([0.3, -0.7], [1000.1, 333.3], 1.0, 1e9)
+    pieces = Trajectory(tr.breakpoints, tr.coefficients)
+    T = tr.end_time
+    np.testing.assert_array_equal(tr.velocity(T), pieces.velocity(T))
+    assert 0.0 < np.abs(tr.velocity(T)).max() < 1e-4
+    np.testing.assert_array_equal(tr.position(T), [1000.1, 333.3])
+
+
 def test_a_duration_float64_cannot_resolve_is_refused_in_plain_words() -> None:
     # 3 / T**2 underflows to 0 at T = 1e308 s: the pieces would stand still at q0 while
     # the plan claims to end at qf. Refused, and the message speaks of the duration.
-    with _raises_invalid(r"end time 1e\+308 s should be 1 .*beyond what float64 can resolve"):
+    with _raises_invalid(r"end time 1e\+308 s is given as 1 .*beyond what float64 can resolve"):
         tk.cubic(0.0, 1.0, duration=1e308)
     with _raises_invalid(r"end time 1e\+300 s .*beyond what float64 can resolve"):
         tk.cubic(0.0, 1.0, duration=1.0).time_scaled(1e300)

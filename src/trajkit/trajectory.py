@@ -35,9 +35,12 @@ _QUANTITY = ("position", "velocity", "acceleration", "jerk")
 # make up the values on either side (plus 1), is rounding, not a discontinuity.
 JUMP_RTOL = 1e-9
 # How far an exact boundary state given to the constructor may differ from the
-# polynomial's own value there (relative, plus 1): rounding of the planner's
-# arithmetic, never a different motion.
+# polynomial's own value there: relative to the size of that derivative's terms in the
+# whole motion and of the state itself, plus a floor of a nanometre or nanoradian for
+# motions that are tiny everywhere. Rounding of the planner's arithmetic, never a
+# different motion (5e-7 is not 1e-9 "up to rounding").
 _BOUNDARY_RTOL = 1e-6
+_BOUNDARY_ATOL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -159,7 +162,28 @@ class Trajectory:
         """The exact boundary state ``value`` as ``(r, ndof)``, checked against the pieces."""
         if value is None:
             return None
-        state = np.array(as_float_array(name, value))
+        state = self._state_rows(name, value)
+        for order, (row, value, off) in enumerate(
+            zip(state, *self._boundary_misses(state, at_end), strict=True)
+        ):
+            if off.any():
+                j = int(np.flatnonzero(off)[0])
+                where = "end_time" if at_end else "start_time"
+                raise InvalidInputError(
+                    f"{name}[{order}]: the {_quantity(order)} of joint {j + 1} at the "
+                    f"{where.replace('_', ' ')} "
+                    f"{float(self._breakpoints[-1 if at_end else 0]):.6g} s is given as "
+                    f"{row[j]:.9g} but the polynomial pieces give {value[j]:.9g}; an exact "
+                    "boundary state must agree with the pieces up to rounding (a plan ends "
+                    "this way when its durations and values are beyond what float64 can "
+                    "resolve: too long a duration or too wide a range of magnitudes)"
+                )
+        state.setflags(write=False)
+        return state
+
+    def _state_rows(self, name: str, value: ArrayLike) -> FloatArray:
+        """A boundary state as ``(r, ndof)``: row ``i`` is derivative ``i``, NaN allowed."""
+        state = np.array(as_float_array(name, value), dtype=np.float64)
         ndof = self.ndof
         if state.ndim == 1:
             state = state[np.newaxis, :]
@@ -170,28 +194,50 @@ class Trajectory:
             )
         if np.isinf(state).any():
             raise InvalidInputError(f"{name} must be finite or NaN, got {state.tolist()}")
+        return state
+
+    def _boundary_misses(self, state: FloatArray, at_end: bool) -> tuple[FloatArray, FloatArray]:
+        """The pieces' own values at the start or end, and where ``state`` misses them."""
         piece = -1 if at_end else 0
         x = float(self._breakpoints[-1] - self._breakpoints[-2]) if at_end else 0.0
+        lengths = np.diff(self._breakpoints)
+        values, misses = [], []
         for order, row in enumerate(state):
-            c = self._coefficients_of(order)[:, piece, :]
+            every = self._coefficients_of(order)
+            c = every[:, piece, :]
             value = _poly.horner(c, x)
-            scale = _poly.horner(np.abs(c), abs(x))
-            off = np.abs(row - value) > _BOUNDARY_RTOL * (1.0 + scale)
-            if off.any():
-                j = int(np.flatnonzero(off)[0])
-                where = "end_time" if at_end else "start_time"
-                # Planners reach this only when float64 cannot hold their numbers (a
-                # duration of 1e308 s underflows the coefficients): say so in those terms.
-                raise InvalidInputError(
-                    f"the {_quantity(order)} of joint {j + 1} at the {where.replace('_', ' ')} "
-                    f"{float(self._breakpoints[-1 if at_end else 0]):.6g} s should be "
-                    f"{row[j]:.9g} but the polynomial pieces give {value[j]:.9g}: the "
-                    "durations and values are beyond what float64 can resolve (too long a "
-                    "duration or too wide a range of magnitudes)"
-                    f" [{name}[{order}] must agree with the pieces up to rounding]"
-                )
-        state.setflags(write=False)
-        return state
+            # The size of this derivative's terms anywhere in the motion (what a planner's
+            # rounding scales with), not only in the last piece: a joint whose last piece
+            # is a short coast near 0 is rounded at the size of its whole move.
+            with np.errstate(over="ignore", invalid="ignore"):  # h**k of a 1e300 s piece
+                powers = lengths[np.newaxis, :] ** np.arange(every.shape[0] - 1, -1, -1)[:, None]
+                product = np.where(every == 0.0, 0.0, np.abs(every) * powers[..., np.newaxis])
+                scale = product.sum(axis=0).max(axis=0) + np.abs(row)  # inf near 1e308
+            values.append(value)
+            miss = np.abs(row - value) > _BOUNDARY_RTOL * scale + _BOUNDARY_ATOL
+            misses.append(miss)  # NaN: no miss
+        return np.array(values), np.array(misses)
+
+    def with_boundaries_where_they_agree(
+        self, *, start: ArrayLike | None = None, end: ArrayLike | None = None
+    ) -> Trajectory:
+        """A copy with exact boundary states, each value kept only where the pieces agree.
+
+        For planners: a target the pieces reach up to rounding becomes the exact
+        boundary value; where the pieces miss it (float64 could not resolve the plan's
+        phases, e.g. 1e-9 s phases at t = 1000 s) the polynomial's own value stands,
+        so the result never claims a state its pieces do not reach. Entries given as
+        NaN are the polynomial's too.
+        """
+        kept = {}
+        for name, value, at_end in (("start", start, False), ("end", end, True)):
+            if value is None:
+                kept[name] = None
+                continue
+            state = self._state_rows(name, value)
+            _, misses = self._boundary_misses(state, at_end)
+            kept[name] = np.where(misses, np.nan, state)
+        return Trajectory(self._breakpoints, self._coefficients, info=self._info, **kept)
 
     # ------------------------------------------------------------------ shape
     @property

@@ -174,7 +174,12 @@ def plan_to_trajectory(plan: PhasePlan, duration: float, info: dict[str, object]
     coefficients = np.stack([jerk / 6.0, acc / 2.0, vel, pos]).transpose(0, 2, 1)
     if duration == 0.0:
         end_state = None  # a standstill: its one value is its start
-    return Trajectory(breakpoints, coefficients, info=info, end=end_state)
+    pieces = Trajectory(breakpoints, coefficients, info=info)
+    if end_state is None:
+        return pieces
+    # The phase sums reach the targets; the pieces, on breakpoints rounded at their own
+    # size, may not (1e-9 s phases at t = 1000 s): there the polynomial's value stands.
+    return pieces.with_boundaries_where_they_agree(end=end_state)
 
 
 def final_states(
@@ -214,10 +219,13 @@ def final_states(
     reached = _close(final_p, target_p, p_terms) & _close(final_v, target_v, v_terms)
     final_p = np.where(reached, target_p, final_p)
     final_v = np.where(reached, target_v, final_v)
-    # A joint that arrives early and coasts on at a speed is elsewhere at the end.
+    # A joint that arrives early and coasts on at a speed is elsewhere at the end, if
+    # beyond rounding (arriving 1e-14 s early at 1e-3 rad/s moves it by 1e-17 rad).
     ends = last(t_start) + last(d)
     span = np.asarray(duration, dtype=np.float64)[..., np.newaxis]
-    coasting = (ends < span * (1.0 - 4.0 * _MERGE)) & (final_v != 0.0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        drift = final_v * np.maximum(span - ends, 0.0)
+        coasting = ~_close(target_p + drift, target_p, p_terms)
     rows = [np.where(reached & ~coasting, final_p, np.nan), np.where(reached, final_v, np.nan)]
     if plan.end_acceleration is not None:
         final_a = last(a) + last(j) * last(d)
