@@ -584,8 +584,8 @@ def test_demo_and_run_never_replace_each_others_report(tmp_path, capsys):
     status, out_text, err = run(capsys, "demo", "--out", str(out))
     assert (status, out_text) == (2, "")
     assert err == (
-        f"trajkit: error: out {out} already holds the index.html of 'trajkit: tiny', which the "
-        "demo would replace: choose another folder or remove that file\n"
+        f"trajkit: error: the folder {out} already holds the index.html of 'trajkit: tiny', "
+        "which the demo would replace: choose another folder or remove that file\n"
     )
     assert (out / "index.html").read_bytes() == page
     assert sorted(p.name for p in out.iterdir()) == ["index.html", "tiny.csv", "tiny_summary.txt"]
@@ -598,6 +598,13 @@ def test_demo_and_run_never_replace_each_others_report(tmp_path, capsys):
         f"trajkit: error: --out {out} already holds the index.html of 'trajkit demo'; --report "
         "would replace it: choose another folder or remove that file\n"
     )
+    # A page of someone else's without a title is not replaced by either command.
+    (out / "index.html").write_text("<html><body>my notes</body></html>")
+    for argv in (("run", str(tiny_scenario(tmp_path)), "--out", str(out), "--report"),
+                 ("demo", "--out", str(out))):  # fmt: skip
+        status, _, err = run(capsys, *argv)
+        assert status == 2 and "already holds an index.html of another kind" in err, err
+    assert (out / "index.html").read_text() == "<html><body>my notes</body></html>"
     # Rerunning into one's own folder replaces one's own page.
     (out / "index.html").write_text("<html><head><title>trajkit: tiny</title>")
     assert run(capsys, "run", str(tiny_scenario(tmp_path)), "--out", str(out), "--report")[0] == 0

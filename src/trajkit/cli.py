@@ -456,9 +456,10 @@ def _run_scenario(args: argparse.Namespace) -> int:
 
         title = page_title(args.out / "index.html")
         if title is not None and not title.startswith("trajkit: "):
+            page = f"the index.html of {title!r}" if title else "an index.html of another kind"
             raise CommandError(
-                f"--out {args.out} already holds the index.html of {title!r}; --report would "
-                "replace it: choose another folder or remove that file"
+                f"--out {args.out} already holds {page}; --report would replace it: choose "
+                "another folder or remove that file"
             )
     outcome = execute(load(args.scenario), args.out, report=args.report)
     for path in outcome.files:

@@ -436,9 +436,10 @@ def run(out: str | Path, log: Log = print) -> list[Path]:
     title = page_title(index_page)
     if title is not None and title != DEMO_TITLE:
         # Another run's report (trajkit run --report): replacing it silently loses it.
+        page = f"the index.html of {title!r}" if title else "an index.html of another kind"
         raise InvalidInputError(
-            f"out {folder} already holds the index.html of {title!r}, which the demo would "
-            "replace: choose another folder or remove that file"
+            f"the folder {folder} already holds {page}, which the demo would replace: "
+            "choose another folder or remove that file"
         )
     folder.mkdir(parents=True, exist_ok=True)
     lines: list[str] = []

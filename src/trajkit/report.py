@@ -104,17 +104,20 @@ def _relative(target: Path, folder: Path) -> str:
 
 
 def page_title(path: str | os.PathLike[str]) -> str | None:
-    """The title of the report page at ``path``; None if there is none or it is no report.
+    """The title of the page at ``path``: None if no file is there, "" if it has none.
 
-    Lets a command tell its own earlier page from another one's before replacing it.
+    Lets a command tell its own earlier page from another one's before replacing it;
+    a page without a title is not one of trajkit's, so it is not replaced either.
     """
     try:
         with open(path, "rb") as handle:
             head = handle.read(4096).decode("utf-8", "replace")
-    except OSError:
+    except FileNotFoundError:
         return None
+    except OSError:
+        return ""  # there, but unreadable: not ours to replace
     match = re.search(r"<title>(.*?)</title>", head, flags=re.DOTALL)
-    return None if match is None else html.unescape(match.group(1))
+    return "" if match is None else html.unescape(match.group(1))
 
 
 def write_report(

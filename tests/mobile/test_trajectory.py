@@ -522,3 +522,21 @@ def test_constant_twist_is_smooth_and_a_twist_step_between_segments_is_seen() ->
     # A drive whose law's acceleration jumps (a trapezoid): twist continuous, rates not.
     drive = Straight((0.0, 0.0, 0.0), tk.trapezoidal(0.0, 1.0, 0.5, 1.0))
     assert MobileTrajectory([drive], Unicycle()).continuity == 1
+
+
+def test_check_verifies_jerk_limits_on_the_phase_laws() -> None:
+    # A goto's S-curve phases are shaped by jerk limits; check() verifies them exactly
+    # (the scenario's limit check passes the base's jerk and angular_jerk here).
+    plan = rotate_translate_rotate((2.0, 1.0, 1.0), **_BASE_LIMITS, profile="scurve",
+                                   jmax=3.0, angular_jmax=5.0)  # fmt: skip
+    report = plan.check(jerk=3.0, angular_jerk=5.0)
+    assert report.ok
+    np.testing.assert_allclose(report.peaks["jerk"][1], [3.0], rtol=1e-12)
+    np.testing.assert_allclose(report.peaks["angular jerk"][0], [-5.0], rtol=1e-12)
+    tight = plan.check(jerk=2.0, angular_jerk=5.0)
+    assert not tight.ok and {v.quantity for v in tight.violations} == {"jerk"}
+    # A trapezoid drive's acceleration steps: its jerk is unbounded.
+    steps = rotate_translate_rotate((2.0, 1.0, 1.0), **_BASE_LIMITS).check(jerk=3.0)
+    assert not steps.ok and np.isinf(steps.violations[0].value)
+    with pytest.raises(InvalidInputError, match="angular_jerk must be > 0"):
+        plan.check(angular_jerk=-1.0)

@@ -399,13 +399,24 @@ class MobileTrajectory:
         return times, self.twist(times)
 
     # ---------------------------------------------------------------- checks
-    def check(self, limits: MobileLimits | None = None, *, rtol: float = 1e-9) -> Report:
+    def check(
+        self,
+        limits: MobileLimits | None = None,
+        *,
+        jerk: float | None = None,
+        angular_jerk: float | None = None,
+        rtol: float = 1e-9,
+    ) -> Report:
         """Verify speed, turn rate, accelerations and wheel speeds against ``limits``.
 
         Parameters
         ----------
         limits : MobileLimits, optional
             Default: the limits the plan was made for (:attr:`limits`).
+        jerk, angular_jerk : float, optional
+            Bounds on ``|dv²/dt²|`` (m/s³) and ``|dω²/dt²|`` (rad/s³), checked exactly on
+            the time laws of the drives and of the turns (an S-curve goto's phases).
+            Arcs have none; flat-output curves are not checked for jerk (refused).
         rtol : float
             Relative tolerance on each bound (default 1e-9).
 
@@ -447,7 +458,39 @@ class MobileTrajectory:
                     cause = f"the {lower_order} jumps there (a segment junction or a law's step)"
                     violation = dataclasses.replace(violation, cause=cause)
                 violations.append(violation)
+        for quantity, bound, kind in (("jerk", jerk, "straight"),
+                                      ("angular jerk", angular_jerk, "turn")):  # fmt: skip
+            if bound is None:
+                continue
+            found = self._law_jerk(quantity, kind)
+            magnitude = positive_scalar(quantity.replace(" ", "_"), bound)
+            lower, upper = np.array([-magnitude]), np.array([magnitude])
+            peaks[quantity], bounds[quantity] = (found.minimum, found.maximum), (lower, upper)
+            channels[quantity] = ("base",)
+            violations += compare(quantity, found, lower, upper, tolerance, ("base",))
         return Report(tuple(violations), peaks, bounds, channels)
+
+    def _law_jerk(self, quantity: str, kind: str) -> Extrema:
+        """Extrema of the jerk of every drive (or turn) law, exactly; 0 where none."""
+        low = high = 0.0
+        t_low = t_high = 0.0
+        for start, part in zip(self._breakpoints[:-1], self._segments, strict=True):
+            if not isinstance(part, _LawSegment):
+                if isinstance(part, Arc):
+                    continue  # a constant twist: no jerk
+                raise InvalidInputError(
+                    f"{quantity} can be checked on turns, drives and arcs only, not on a "
+                    f"{part.kind} segment"
+                )
+            if part.kind != kind:
+                continue
+            lo, at_lo, hi, at_hi = _law_extrema(part.law, 3, 1.0)
+            if lo < low:
+                low, t_low = lo, float(start + at_lo)
+            if hi > high:
+                high, t_high = hi, float(start + at_hi)
+        return Extrema(order=3, minimum=np.array([low]), time_of_minimum=np.array([t_low]),
+                       maximum=np.array([high]), time_of_maximum=np.array([t_high]))  # fmt: skip
 
     def _extrema(self, order: int, weights: list[tuple[str, float, float]]) -> Extrema:
         values = np.array(

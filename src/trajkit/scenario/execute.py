@@ -101,7 +101,12 @@ def execute(
     if not scenario.mobile and robot is not None and plan.ndof != robot.ndof:
         raise ScenarioError(f"task: the plan has {plan.ndof} joint(s) but {robot.name} has "
                             f"{robot.ndof}")  # fmt: skip
-    checked = plan.check() if scenario.mobile else plan.check(_arm_limits(scenario, robot))
+    if scenario.mobile:  # a goto's S-curve phases answer to the base's jerk limits too
+        jerks = {"jerk": scenario.limits.get("jerk"),
+                 "angular_jerk": scenario.limits.get("angular_jerk")}  # fmt: skip
+        checked = plan.check(**jerks)
+    else:
+        checked = plan.check(_arm_limits(scenario, robot))
     lines.append(f"  limit check: {'OK' if checked.ok else 'FAILED'}")
     lines += [f"    {violation}" for violation in checked.violations]
     run = _simulate(scenario, robot, plan, extra, lines)

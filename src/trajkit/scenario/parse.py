@@ -33,7 +33,8 @@ TASKS = ARM_TASKS + MOBILE_TASKS
 PROFILES = ("cubic", "quintic", "septic", "trapezoid", "scurve")
 #: The largest time (s) a polynomial task names, some 31,700 years.
 MAX_TIME = 1e12
-#: A base's jerk limits: not MobileLimits (no check covers them), they shape goto's S-curves.
+#: A base's jerk limits: not MobileLimits; they shape a goto's S-curves, and the scenario's
+#: limit check verifies them on those phases (MobileTrajectory.check's jerk arguments).
 MOBILE_JERKS = ("jerk", "angular_jerk")
 MOBILE_LIMITS = (
     "velocity", "angular_velocity", "acceleration", "angular_acceleration", *MOBILE_JERKS,
