@@ -10,7 +10,6 @@ into place, so an error or Ctrl-C leaves no partial file.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import shutil
 import sys
@@ -23,7 +22,7 @@ from matplotlib.figure import Figure
 
 from trajkit._validation import FloatArray, positive_scalar
 from trajkit.errors import InvalidInputError, TrajkitError
-from trajkit.io.atomic import _forget, _fsync_file, _mode_for, final_name, temporary_path
+from trajkit.io.atomic import atomic_path, final_name
 
 if TYPE_CHECKING:
     from trajkit.kinematics.chain import SerialChain
@@ -123,16 +122,10 @@ def _save(
     # A path staged by trajkit.io.atomic is a temporary: the bar shows the name the user chose.
     bar = _Progress(count, f"animating {final_name(path)}", stream)
     movie = animation.FuncAnimation(figure, draw, frames=count, blit=False, repeat=False)
-    scratch = temporary_path(path)
     try:
-        movie.save(scratch, writer=writer, progress_callback=bar)
-        _fsync_file(scratch)
-        # mkstemp made the file 0600; the animation gets the mode open() would give it.
-        os.chmod(scratch, _mode_for(path))
-        os.replace(scratch, path)
+        with atomic_path(path) as scratch:
+            movie.save(scratch, writer=writer, progress_callback=bar)
     except BaseException as exc:
-        with contextlib.suppress(OSError):
-            os.unlink(scratch)
         bar.abandon()
         interrupt = _interrupt_behind(exc)
         if interrupt is not None and interrupt is not exc:
@@ -140,8 +133,6 @@ def _save(
             # frames: IndexError); the interrupt, not that consequence, is what happened.
             raise interrupt.with_traceback(None) from None
         raise
-    finally:
-        _forget(scratch)
     return path
 
 

@@ -218,6 +218,11 @@ class Trajectory:
             misses.append(miss)  # NaN: no miss
         return np.array(values), np.array(misses)
 
+    def with_info(self, info: Mapping[str, Any]) -> Trajectory:
+        """The same motion (pieces and exact boundary states) with ``info`` in place."""
+        return Trajectory(self._breakpoints, self._coefficients, info=info, start=self._start,
+                          end=self._end)  # fmt: skip
+
     def with_boundaries_where_they_agree(
         self, *, start: ArrayLike | None = None, end: ArrayLike | None = None
     ) -> Trajectory:

@@ -244,3 +244,13 @@ def test_an_unreachable_path_names_the_first_sample_outside():
     # x = 1 + 1.9 u leaves the annulus r <= 1.8 at u = 0.421: sample 85 of 200, u = 0.425.
     with pytest.raises(UnreachableError, match=r"t=0\.425 s: .* out of reach of planar 2R"):
         time_optimal(PLANAR, Line([1.0, 0.0, 0.0], [2.9, 0.0, 0.0]), PLANAR_LIMITS)
+
+
+def test_the_timed_move_ends_exactly_at_rest_where_the_path_ends():
+    # Issue 16 item 6: the task-space timing keeps topp's exact boundary states (it used
+    # to rebuild the trajectory from its pieces, whose end velocity is a rounding residue).
+    move = time_optimal(ARM, SEED_LINE, ARM_LIMITS)
+    tr = move.trajectory
+    np.testing.assert_array_equal(tr.velocity([tr.end_time, tr.end_time + 1.0]), 0.0)
+    np.testing.assert_array_equal(tr.velocity(tr.start_time), 0.0)
+    assert tr.info["planner"] == "time_optimal"

@@ -24,7 +24,14 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO
 
-__all__ = ["StagedFiles", "atomic_write", "final_name", "staged_files", "temporary_path"]
+__all__ = [
+    "StagedFiles",
+    "atomic_path",
+    "atomic_write",
+    "final_name",
+    "staged_files",
+    "temporary_path",
+]
 
 TEMP_PREFIX = ".trajkit-tmp-"
 # A host tag keeps a process from judging, by pid, temporaries that another machine
@@ -232,13 +239,26 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], None
         If the file cannot be written; its ``filename`` is ``path`` (not the
         temporary), e.g. ``OSError(ENOSPC)`` on a full disk.
     """
+    with atomic_path(path) as temporary, open(temporary, "wb") as handle:
+        write(handle)
+    return Path(path)
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """A temporary path beside ``path`` to write to; renamed onto ``path`` on success.
+
+    For writers that take a file name rather than a handle (matplotlib's animation
+    writers): the same guarantees as :func:`atomic_write`, which is built on it. The
+    file is flushed to disk and given the mode ``open()`` would give it before the
+    rename, and the folder after it; on any exception the temporary is removed and an
+    ``OSError`` names ``path``.
+    """
     target = Path(path)
     temporary = temporary_path(target)
     try:
-        with open(temporary, "wb") as handle:
-            write(handle)
-            handle.flush()
-            os.fsync(handle.fileno())
+        yield temporary
+        _fsync_file(temporary)
         os.chmod(temporary, _mode_for(target))
         os.replace(temporary, target)
     except BaseException as exc:
@@ -252,7 +272,6 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], None
         raise
     _forget(temporary)
     _fsync_folder(_folder_of(target))
-    return target
 
 
 def _mode_for(target: Path) -> int:

@@ -113,5 +113,4 @@ def time_optimal(
                               branch=branch, tolerance=tolerance)  # fmt: skip
     result = topp(geometry.trajectory, limits, grid=grid)
     info = dict(result.info) | {"planner": "time_optimal", "path_error": geometry.path_error}
-    return TimeOptimalMove(Trajectory(result.breakpoints, result.coefficients, info=info),
-                           geometry)  # fmt: skip
+    return TimeOptimalMove(result.with_info(info), geometry)
