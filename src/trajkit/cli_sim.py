@@ -79,7 +79,7 @@ def check_sim_options(args: argparse.Namespace) -> None:
     Also a ``--frames`` that names a file: the frames go into a folder.
     """
     folder = getattr(args, "frames", None)
-    if folder is not None and folder.exists() and not folder.is_dir():
+    if folder is not None and Path(folder).exists() and not Path(folder).is_dir():
         raise InvalidInputError(f"--frames {folder} is a file, not a folder")
     if args.sim == "mujoco":
         return

@@ -540,3 +540,14 @@ def test_check_verifies_jerk_limits_on_the_phase_laws() -> None:
     assert not steps.ok and np.isinf(steps.violations[0].value)
     with pytest.raises(InvalidInputError, match="angular_jerk must be > 0"):
         plan.check(angular_jerk=-1.0)
+
+
+def test_flat_output_plans_measure_the_continuity_of_their_curve() -> None:
+    # The heading follows the curve's velocity: a C2 cubic spline gives a continuous twist
+    # whose rates jump at the knots; an analytic figure eight is smooth (2: all it reads).
+    from trajkit.mobile import FigureEight, flat_trajectory, spline_output
+
+    assert flat_trajectory(FigureEight(2.0, 1.0, 20.0)).continuity == 2
+    spline = spline_output([[0.0, 0.0], [1.0, 0.5], [2.0, 0.0], [3.0, 1.0]])
+    assert spline.trajectory.continuity == 2
+    assert flat_trajectory(spline).continuity == 1

@@ -253,6 +253,24 @@ def channel_weights(attribute: str, model: Model) -> tuple[int, list[tuple[str, 
     return order, [("base", 1.0 if linear else 0.0, 0.0 if linear else 1.0)]
 
 
+def _segment_continuity(part: Segment) -> float:
+    """How many derivatives of the pose are continuous inside one segment (never more)."""
+    if isinstance(part, Arc):
+        return math.inf
+    if isinstance(part, _LawSegment):
+        # A law with k continuous derivatives moves the pose with k continuous derivatives.
+        return part.law.continuity
+    output = getattr(part, "output", None)  # a flat-output curve (trajkit.mobile.flatness)
+    curve = getattr(output, "trajectory", None)
+    if isinstance(curve, Trajectory):
+        # The heading is the direction of the curve's velocity: one derivative is spent.
+        return curve.continuity - 1
+    breakpoints = np.asarray(getattr(output, "breakpoints", ()), dtype=float)
+    if output is not None and breakpoints.size <= 2:
+        return math.inf  # an analytic curve (a figure eight)
+    return 0.0  # a kind of segment this cannot see into: claim no more than the pose
+
+
 class MobileTrajectory:
     """The planned motion of a wheeled base, segment after segment, from ``t = 0``.
 
@@ -534,9 +552,7 @@ class MobileTrajectory:
             return math.inf
         level = 2.0
         for part in self._segments:
-            if isinstance(part, _LawSegment):
-                # A law of order k continuity moves the pose with k continuous derivatives.
-                level = min(level, part.law.continuity)
+            level = min(level, _segment_continuity(part))
         for left, right in zip(self._segments[:-1], self._segments[1:], strict=True):
             end = left.local_state(np.array([left.duration]))
             start = right.local_state(np.array([0.0]))
