@@ -317,13 +317,9 @@ def test_property_batch_equals_one_by_one(seed, B, ndof, sync, moving, asymmetri
     assert_relative(plans.durations, expected, BATCH_RTOL, "durations")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: at t >= duration BatchTrajectory evaluates the last phase that has begun, "
-    "even a zero-length one: a pure coast reports the acceleration of its empty fall "
-    "phase (+1) where Trajectory, which skips empty phases, reports 0",
-)
 def test_acceleration_after_a_zero_length_last_phase():
+    # At t >= duration the batch once evaluated the last phase begun, even an empty one:
+    # a pure coast reported its empty fall phase's acceleration (+1) instead of 0.
     one = np.ones((1, 1))
     # Coast at 2 rad/s for 1 s: rise and fall take 0 s (their accelerations are -1, +1).
     plans = tk.batch.trapezoidal([[0.0]], [[2.0]], 2 * one, one, v0=[[2.0]], vf=[[2.0]])

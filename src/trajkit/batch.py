@@ -144,8 +144,15 @@ class BatchTrajectory:
         # of a joint that arrived early starts right at its arrival.
         at_end = (clamped >= self.durations[:, np.newaxis])[:, np.newaxis, :]
         begun[..., -1] &= (starts[:, :, np.newaxis, -1] < clamped[:, np.newaxis, :]) | ~at_end
-        # Zero-length phases start where their successor does; the last begun wins.
-        index = begun.sum(axis=-1) - 1  # (B, ndof, m)
+        # Zero-length phases hold no time: never the phase a time falls in (a pure coast's
+        # empty fall phase once lent it its acceleration at the end). The final coast
+        # serves when nothing else has begun (a standstill).
+        begun &= np.concatenate(
+            [self.plan.durations > 0.0, np.ones((*starts.shape[:2], 1), bool)], axis=-1
+        )[:, :, np.newaxis, :]
+        begun[..., -1] |= ~begun[..., :-1].any(axis=-1)
+        # The last non-empty phase begun wins.
+        index = (begun.shape[-1] - 1) - np.argmax(begun[..., ::-1], axis=-1)  # (B, ndof, m)
         take = lambda x: np.take_along_axis(x, index, axis=-1)  # noqa: E731
         x = clamped[:, np.newaxis, :] - take(starts)
         p, v, a, j = (take(q) for q in states)
