@@ -337,13 +337,8 @@ def test_phase_sync_with_a_still_joint():
 
 
 # ------------------------------------------------ limits that are not (B, ndof) arrays
-BUG_UNBROADCAST_LIMITS = pytest.mark.xfail(
-    strict=True,
-    raises=ValueError,
-    reason="BUG: batch.trapezoidal passes scalar / (ndof,) / tuple limits unbroadcast to "
-    "solve_trapezoid; _trapezoid_math.minimum_time's np.concatenate then fails for "
-    "moving boundaries and for sync='phase' (only (B, ndof) limits work there)",
-)
+# Shared scalar, per-joint and tuple limits once reached the general solver unbroadcast
+# and failed in its np.concatenate (moving boundaries, sync="phase").
 LIMIT_SHAPES = {
     "scalar": (lambda B, n: 1.5, lambda B, n: 0.75),
     "per joint": (lambda B, n: np.linspace(1.0, 2.0, n), lambda B, n: np.linspace(0.5, 1.0, n)),
@@ -351,7 +346,6 @@ LIMIT_SHAPES = {
 }
 
 
-@BUG_UNBROADCAST_LIMITS
 @pytest.mark.parametrize("shape", list(LIMIT_SHAPES))
 def test_moving_boundaries_with_shared_limits(shape):
     vmax_of, amax_of = LIMIT_SHAPES[shape]
@@ -364,7 +358,6 @@ def test_moving_boundaries_with_shared_limits(shape):
         assert_relative(plans.durations[i], one.duration, BATCH_RTOL, f"duration {i}")
 
 
-@BUG_UNBROADCAST_LIMITS
 @pytest.mark.parametrize("shape", list(LIMIT_SHAPES))
 def test_phase_sync_with_shared_limits(shape):
     vmax_of, amax_of = LIMIT_SHAPES[shape]

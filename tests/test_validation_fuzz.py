@@ -257,12 +257,9 @@ CASES: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
                            "duration": None, "dt": None}),
     "blended": (tk.blended, {"waypoints": [[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]], "vmax": 1.0,
                              "amax": 2.0, "jmax": None, "durations": None, "through": False}),
-    # v0, vf, sync and dt stay valid: moving boundaries, phase sync or a period with
-    # shared limits hit the engine bug pinned by tests/test_batch.py's
-    # BUG_UNBROADCAST_LIMITS xfail (the engine issue's, not this one's).
     "batch_trapezoidal": (trajkit.batch.trapezoidal, {
         "q0": [[0.0, 0.0], [1.0, 1.0]], "qf": [[1.0, 1.0], [0.0, 2.0]], "vmax": 1.0,
-        "amax": 2.0}),
+        "amax": 2.0, "v0": 0.0, "vf": 0.0, "sync": "time", "dt": None}),
     "batch_scurve": (trajkit.batch.scurve, {
         "q0": [[0.0, 0.0], [1.0, 1.0]], "qf": [[1.0, 1.0], [0.0, 2.0]], "vmax": 1.0,
         "amax": 2.0, "jmax": 5.0, "v0": 0.0, "vf": 0.0, "sync": "time", "dt": None}),

@@ -299,10 +299,10 @@ def _refuse_fast_boundaries(
 
 def _args(start, end, start_v, end_v, vpos, vneg, apos, aneg):
     shape = start.shape
-    return (
-        end - start, np.broadcast_to(start_v, shape), np.broadcast_to(end_v, shape),
-        vpos, vneg, apos, aneg,
-    )  # fmt: skip
+    # Every argument (B, ndof): the general solver concatenates them, so shared scalar,
+    # per-joint or tuple limits must be spread over the problems first.
+    return tuple(np.broadcast_to(x, shape) for x in
+                 (end - start, start_v, end_v, vpos, vneg, apos, aneg))  # fmt: skip
 
 
 def _rest_to_rest(
