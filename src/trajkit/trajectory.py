@@ -158,6 +158,35 @@ class Trajectory:
         self._start = self._boundary("start", start, at_end=False)
         self._end = self._boundary("end", end, at_end=True)
 
+    @classmethod
+    def _trusted(
+        cls,
+        breakpoints: FloatArray,
+        coefficients: FloatArray,
+        info: Mapping[str, Any],
+        end: FloatArray | None = None,
+    ) -> Trajectory:
+        """A trajectory from arrays a planner has built and checked (nothing re-validated).
+
+        For planners' hot paths, as :meth:`scipy.interpolate.PPoly.construct_fast`:
+        ``breakpoints`` increasing, ``coefficients`` (k + 1, m, ndof) finite, ``end``
+        (r, ndof) agreeing with the pieces up to rounding (NaN: the polynomial's), all
+        owned by the new object; ``info`` any read-only mapping (it may build its
+        values on first access).
+        """
+        self = object.__new__(cls)
+        breakpoints.setflags(write=False)
+        coefficients.setflags(write=False)
+        self._breakpoints = breakpoints
+        self._coefficients = coefficients
+        self._derivatives = {0: coefficients}
+        self._info = info
+        self._start = None
+        if end is not None:
+            end.setflags(write=False)
+        self._end = end
+        return self
+
     def _boundary(self, name: str, value: ArrayLike | None, *, at_end: bool) -> FloatArray | None:
         """The exact boundary state ``value`` as ``(r, ndof)``, checked against the pieces."""
         if value is None:

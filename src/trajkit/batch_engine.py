@@ -1,0 +1,411 @@
+"""Plan many problems at once: arrays of shape ``(B, ndof)``, no Python loop per problem.
+
+Each planner runs the compiled engine over every problem in parallel and returns a
+:class:`BatchTrajectory` holding each problem's phase tables; it evaluates all
+problems in one call and turns any one of them into the same
+:class:`~trajkit.Trajectory` the single-problem planner returns.
+
+Examples
+--------
+>>> import numpy as np, trajkit as tk
+>>> rng = np.random.default_rng(0)
+>>> q0, qf = rng.uniform(-1, 1, (1000, 6)), rng.uniform(-1, 1, (1000, 6))
+>>> plans = tk.batch.trapezoidal(q0, qf, vmax=1.0, amax=2.0)
+>>> plans.durations.shape, plans.position(0.5).shape
+((1000,), (1000, 6))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import FloatArray, as_float_array, finite_array, positive_scalar
+from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.limits import LimitSpec
+from trajkit.profiles import engine, limited
+from trajkit.profiles._phases import PhasePlan
+from trajkit.trajectory import Trajectory
+
+__all__ = ["BatchTrajectory", "scurve", "trapezoidal"]
+
+
+class BatchTrajectory:
+    """``B`` planned problems of ``ndof`` joints each, stored as phase tables.
+
+    Attributes
+    ----------
+    durations : ndarray, shape (B,)
+        Duration of each problem (s).
+    info : dict
+        Per-problem plan arrays (phase times, peaks, each joint's own minimum,
+        limiting joint), each with ``B`` on its first axis.
+
+    Notes
+    -----
+    Evaluation is that of each problem's :class:`~trajkit.Trajectory` (``batch[i]``):
+    ``t`` clamped to ``[0, duration]`` per problem, the exact end state from the
+    end on; a joint that finishes before its problem's duration continues at its
+    final velocity with zero acceleration.
+    """
+
+    __slots__ = ("_info", "_make_info", "_matrix", "_planner", "_result", "durations")
+
+    def __init__(
+        self,
+        planner: str,
+        matrix: FloatArray,
+        result: engine.EngineResult,
+        info: Callable[[], dict[str, Any]],
+    ) -> None:
+        self._planner = planner
+        self._matrix = matrix  # (B, 11, ndof): the problems as the engine read them
+        self._result = result
+        self.durations = result.duration
+        self._make_info = info
+        self._info: dict[str, Any] | None = None
+
+    @property
+    def info(self) -> dict[str, Any]:
+        """Per-problem plan arrays, ``B`` on the first axis of each."""
+        if self._info is None:
+            self._info = self._make_info()
+        return self._info
+
+    @property
+    def plan(self) -> PhasePlan:
+        """Every problem's nine phases (start states, durations, accelerations, jerks)."""
+        m = self._matrix
+        return engine.phase_plan(self._result, m[:, 0], m[:, 2], m[:, 4])
+
+    def _boundaries(self) -> tuple[FloatArray, FloatArray]:
+        m = self._matrix
+        return m[:, [0, 2, 4]], m[:, [1, 3, 5]]  # start and target, (B, 3, ndof)
+
+    def __len__(self) -> int:
+        return int(self.durations.shape[0])
+
+    @property
+    def ndof(self) -> int:
+        """Number of joints per problem."""
+        return int(self._matrix.shape[-1])
+
+    def __repr__(self) -> str:
+        return f"BatchTrajectory(problems={len(self)}, ndof={self.ndof})"
+
+    def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
+        """Derivative ``order`` (0-3) of every problem at time(s) ``t``.
+
+        ``t`` scalar gives ``(B, ndof)``; ``t`` of shape ``(m,)`` gives ``(B, m, ndof)``.
+        """
+        from trajkit.profiles._kernels.tables import evaluate_batch
+
+        if isinstance(order, bool) or order not in (0, 1, 2, 3):
+            raise InvalidInputError(f"order must be 0, 1, 2 or 3, got {order!r}")
+        times = finite_array("t", t, unit="s")
+        if times.ndim > 1:
+            raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
+        scalar = times.ndim == 0
+        grid = np.ascontiguousarray(np.atleast_1d(times), dtype=np.float64)
+        out = np.empty((len(self), grid.size, self.ndof))
+        start, target = self._boundaries()
+        r = self._result
+        engine.run(
+            "evaluate_batch",
+            evaluate_batch,
+            np.ascontiguousarray(start),
+            np.ascontiguousarray(target),
+            r.t,
+            r.u,
+            r.second_order,
+            self.durations,
+            grid,
+            int(order),
+            out,
+        )
+        return out[:, 0, :] if scalar else out
+
+    def position(self, t: ArrayLike) -> FloatArray:
+        """Positions of every problem at ``t``."""
+        return self.evaluate(t, 0)
+
+    def velocity(self, t: ArrayLike) -> FloatArray:
+        """Velocities of every problem at ``t``."""
+        return self.evaluate(t, 1)
+
+    def acceleration(self, t: ArrayLike) -> FloatArray:
+        """Accelerations of every problem at ``t``."""
+        return self.evaluate(t, 2)
+
+    def jerk(self, t: ArrayLike) -> FloatArray:
+        """Jerks of every problem at ``t`` (zero between switches of a trapezoid)."""
+        return self.evaluate(t, 3)
+
+    def __getitem__(self, i: int) -> Trajectory:
+        """Problem ``i`` as an ordinary Trajectory (the same pieces its single planner builds)."""
+        from trajkit.profiles._kernels.tables import PHASES, pieces
+
+        if isinstance(i, bool) or not isinstance(i, int | np.integer):
+            raise InvalidInputError(f"index must be an integer, got {i!r}")
+        if not -len(self) <= i < len(self):
+            raise IndexError(f"problem {i} out of range for {len(self)} problems")
+        i = int(i) % len(self)
+        start, target = self._boundaries()
+        r = self._result
+        ndof = self.ndof
+        breakpoints = np.empty(PHASES * ndof + 2)
+        coefficients = np.empty((4, PHASES * ndof + 1, ndof))
+        end = np.empty((3, ndof))
+        count = engine.run(
+            "pieces",
+            pieces,
+            np.ascontiguousarray(start[i]),
+            np.ascontiguousarray(target[i]),
+            r.t[i],
+            r.u[i],
+            r.second_order[i],
+            float(self.durations[i]),
+            breakpoints,
+            coefficients,
+            end,
+        )
+        info = {key: _item(value, i) for key, value in self.info.items()}
+        return Trajectory._trusted(
+            breakpoints[: count + 1],
+            np.ascontiguousarray(coefficients[:, :count]),
+            limited.LazyInfo(lambda: info),
+            end,
+        )
+
+
+def _item(value: Any, i: int) -> Any:
+    if isinstance(value, np.ndarray) and value.ndim >= 1:
+        item = value[i]
+        return item.tolist() if isinstance(item, np.ndarray) else item.item()
+    return value
+
+
+_ROWS = ("q0", "qf", "v0", "vf", "a0", "af")
+_UNITS = ("rad", "rad", "rad/s", "rad/s", "rad/s^2", "rad/s^2")
+
+
+def _problem_array(name: str, value: ArrayLike, unit: str) -> FloatArray:
+    array = finite_array(name, value, unit=unit)
+    if array.ndim > 2:
+        raise InvalidInputError(
+            f"{name} must have shape (B, ndof) or broadcast to it, got {array.shape}"
+        )
+    return array
+
+
+def _limit_rows(name: str, spec: LimitSpec, unit: str) -> tuple[FloatArray, FloatArray]:
+    """(lower, upper) of a limit, each broadcastable to ``(B, ndof)``."""
+    if spec is None:
+        raise InvalidInputError(f"{name} is required ({unit})")
+    if isinstance(spec, tuple):
+        if len(spec) != 2:
+            raise InvalidInputError(f"{name} given as a tuple must be (lower, upper)")
+        return (
+            _problem_array(f"{name} lower bound", spec[0], unit),
+            _problem_array(f"{name} upper bound", spec[1], unit),
+        )
+    upper = _problem_array(name, spec, unit)
+    return -upper, upper
+
+
+def _matrix(
+    planner: str, values: dict[str, ArrayLike], vmax: LimitSpec, amax: LimitSpec, jmax: ArrayLike
+) -> FloatArray:
+    """Every problem as the engine reads it, ``(B, 11, ndof)``, validated."""
+    rows = [_problem_array(n, values[n], u) for n, u in zip(_ROWS, _UNITS, strict=True)]
+    rows += [*_limit_rows("vmax", vmax, "rad/s"), *_limit_rows("amax", amax, "rad/s^2")]
+    jerk = np.array(as_float_array("jmax", jmax), dtype=float)
+    if jerk.ndim > 2:
+        raise InvalidInputError(
+            f"jmax must have shape (B, ndof) or broadcast to it, got {jerk.shape}"
+        )
+    rows.append(jerk)
+    try:
+        shape = np.broadcast_shapes(*(r.shape for r in rows))
+    except ValueError:
+        raise InvalidInputError(
+            "q0, qf, v0, vf, a0, af and the limits must broadcast to one (B, ndof) shape, got "
+            + ", ".join(str(r.shape) for r in rows)
+        ) from None
+    if len(shape) != 2 or 0 in shape:
+        raise InvalidInputError(
+            f"problems must have shape (B, ndof) with B, ndof >= 1, got {shape}"
+        )
+    m = np.empty((shape[0], 11, shape[1]))
+    for k, row in enumerate(rows):
+        m[:, k] = row
+    from trajkit.profiles._kernels.admissible import admissible_batch
+
+    bad = engine.run("admissible_batch", admissible_batch, m)
+    if bad >= 0:
+        _explain(planner, m[bad], bad)
+    return m
+
+
+def _explain(planner: str, m: FloatArray, i: int) -> None:
+    """Raise the single-problem validators' error for problem ``i``, naming it."""
+    try:
+        limited.read_problem(
+            planner,
+            m[0],
+            m[1],
+            (m[6], m[7]),
+            (m[8], m[9]),
+            m[10],
+            v0=m[2],
+            vf=m[3],
+            a0=m[4],
+            af=m[5],
+            sync="time",
+        )
+    except TrajkitError as error:
+        raise type(error)(f"problem {i}: {error}") from None
+    raise AssertionError(f"problem {i} refused by the fast check but not by the validators")
+
+
+def _sync_codes(sync: object, ndof: int, count: int) -> tuple[np.ndarray, tuple]:
+    codes, names = limited.read_sync(sync, ndof)
+    return np.ascontiguousarray(np.broadcast_to(codes, (count, ndof))), names
+
+
+def _plan(
+    planner: str, m: FloatArray, sync: object, min_duration: ArrayLike | None, dt: float | None
+) -> tuple[engine.EngineResult, tuple, float | None]:
+    count, _, ndof = m.shape
+    codes, names = _sync_codes(sync, ndof, count)
+    floor = None
+    if min_duration is not None:
+        floor = finite_array("min_duration", min_duration, unit="s")
+        if floor.ndim > 1 or (floor.ndim == 1 and floor.size != count):
+            raise InvalidInputError(f"min_duration must be a number or one per problem ({count})")
+        if np.any(floor <= 0):
+            raise InvalidInputError("min_duration must be > 0 s")
+    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    control = np.zeros((count, ndof), np.int64)
+    result = engine.solve(planner, m, control=control, sync=codes, min_duration=floor, dt=step)
+    return result, names, step
+
+
+def _common_info(planner: str, result: engine.EngineResult, names: tuple, step: float | None):
+    return {
+        "planner": planner,
+        "continuity": 1 if result.second_order.any() else 2,
+        "sync": names[0] if len(set(names)) == 1 else names,
+        "dt": step,
+        "minimum_durations": result.own,
+        "limiting_joint": result.limiting,
+        "brake_times": result.t[..., :2],
+    }
+
+
+def trapezoidal(
+    q0: ArrayLike,
+    qf: ArrayLike,
+    vmax: LimitSpec,
+    amax: LimitSpec,
+    *,
+    v0: ArrayLike = 0.0,
+    vf: ArrayLike = 0.0,
+    sync: object = "time",
+    min_duration: ArrayLike | None = None,
+    dt: float | None = None,
+) -> BatchTrajectory:
+    """Time-optimal trapezoid profiles for ``B`` problems at once.
+
+    Same meaning as :func:`trajkit.trapezoidal` (limit mode), with every argument
+    of shape ``(B, ndof)`` or broadcastable to it (limits may be per joint
+    ``(ndof,)``, per problem, or a ``(lower, upper)`` tuple of such arrays);
+    ``min_duration`` one number or one per problem.
+
+    Returns
+    -------
+    BatchTrajectory
+        ``durations`` (B,); ``info`` with ``minimum_durations`` (B, ndof),
+        ``limiting_joint`` (B,), ``phase_times`` (B, ndof, 3), ``peak_velocity``
+        (B, ndof), ``accelerations`` (B, ndof, 2), ``brake_times`` (B, ndof, 2).
+    """
+    values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": 0.0, "af": 0.0}
+    m = _matrix("trapezoidal", values, vmax, amax, np.inf)
+    result, names, step = _plan("trapezoidal", m, sync, min_duration, dt)
+
+    def info() -> dict[str, Any]:
+        from trajkit.profiles._kernels.tables import stretches_batch
+
+        times = np.empty((*result.t.shape[:2], 3))
+        accelerations = np.empty((*result.t.shape[:2], 2))
+        ok = np.empty(result.t.shape[:2], np.bool_)
+        engine.run("stretches_batch", stretches_batch, result.t, result.u, times, accelerations, ok)
+        if not ok.all():
+            raise AssertionError("an acceleration-limited profile of more than three stretches")
+        after_brake = m[:, 2] + result.t[..., 0] * result.u[..., 0]
+        return _common_info("trapezoidal", result, names, step) | {
+            "phase_times": times,
+            "peak_velocity": after_brake + times[..., 0] * accelerations[..., 0],
+            "accelerations": accelerations,
+        }
+
+    return BatchTrajectory("trapezoidal", m, result, info)
+
+
+def scurve(
+    q0: ArrayLike,
+    qf: ArrayLike,
+    vmax: LimitSpec,
+    amax: LimitSpec,
+    jmax: ArrayLike,
+    *,
+    v0: ArrayLike = 0.0,
+    vf: ArrayLike = 0.0,
+    a0: ArrayLike = 0.0,
+    af: ArrayLike = 0.0,
+    sync: object = "time",
+    min_duration: ArrayLike | None = None,
+    dt: float | None = None,
+) -> BatchTrajectory:
+    """Time-optimal jerk-limited profiles for ``B`` problems at once, state to state.
+
+    Same meaning as :func:`trajkit.scurve`, with every argument of shape
+    ``(B, ndof)`` or broadcastable to it (limits may be per joint, per problem, or
+    ``(lower, upper)`` tuples of such arrays); ``min_duration`` one number or one
+    per problem.
+
+    Returns
+    -------
+    BatchTrajectory
+        ``durations`` (B,); ``info`` with ``minimum_durations`` (B, ndof),
+        ``limiting_joint`` (B,), ``phase_times`` and ``jerks`` (B, ndof, 7),
+        ``brake_times`` (B, ndof, 2), ``peak_velocity`` (B, ndof).
+    """
+    values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": a0, "af": af}
+    m = _matrix("scurve", values, vmax, amax, jmax)
+    result, names, step = _plan("scurve", m, sync, min_duration, dt)
+
+    def info() -> dict[str, Any]:
+        from trajkit.profiles._kernels.tables import velocities_at_phases
+
+        v = np.empty(result.t.shape)
+        start = np.ascontiguousarray(m[:, [0, 2, 4]])
+        engine.run(
+            "velocities_at_phases",
+            velocities_at_phases,
+            start,
+            result.t,
+            result.u,
+            result.second_order,
+            v,
+        )
+        return _common_info("scurve", result, names, step) | {
+            "phase_times": result.t[..., 2:],
+            "jerks": np.where(result.second_order[..., np.newaxis], 0.0, result.u[..., 2:]),
+            "peak_velocity": v[..., 2 + 3],
+        }
+
+    return BatchTrajectory("scurve", m, result, info)

@@ -1,0 +1,868 @@
+"""Several joints to a common end: each joint's fastest profile, then one duration for all.
+
+Per joint (step 1): a brake pre-profile if the start state is beyond the limits,
+then the fastest profile and the durations it cannot take (blocked intervals).
+Then the common duration: the smallest candidate (a joint's minimum, the right end
+of a blocked interval, ``min_duration``; rounded up to whole periods for discrete
+durations) that no synchronized joint is blocked at. Each synchronized joint is
+then re-planned to take exactly that duration (step 2), or, under phase
+synchronization, follows the limiting joint's phase times scaled to its own move.
+
+:func:`plan` solves one problem; :func:`plan_batch` runs it over a batch of
+problems in parallel. Both write into caller-provided arrays and return status
+codes (numba raises no helpful errors); :mod:`trajkit.profiles.engine` turns
+those into exceptions that name the joint and the cause.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from trajkit.profiles._kernels import (
+    acceleration_limited,
+    brake,
+    jerk_fastest,
+    jerk_timed,
+    velocity_target,
+)
+from trajkit.profiles._kernels.admissible import (
+    A0,
+    A_MAX,
+    A_MIN,
+    AF,
+    J_MAX,
+    Q0,
+    QF,
+    V0,
+    V_MAX,
+    V_MIN,
+    VF,
+)
+from trajkit.profiles._kernels.layout import (
+    AF as REC_AF,
+)
+from trajkit.profiles._kernels.layout import (
+    BRAKE_A,
+    BRAKE_DURATION,
+    BRAKE_J,
+    BRAKE_P,
+    BRAKE_T,
+    BRAKE_V,
+    PF,
+    SIZE,
+    T_SUM,
+    A,
+    J,
+    P,
+    T,
+    V,
+)
+from trajkit.profiles._kernels.layout import (
+    VF as REC_VF,
+)
+from trajkit.profiles._kernels.profile import (
+    finalize_brake,
+    finalize_brake_second_order,
+    set_boundary,
+)
+
+# Control interface of a joint.
+POSITION = 0
+VELOCITY = 1
+
+# Synchronization of a joint.
+SYNC_TIME = 0
+SYNC_PHASE = 1
+SYNC_TIME_IF_NECESSARY = 2
+SYNC_NONE = 3
+_LAW = 4  # internal: a phase-synchronized joint following the shared law
+
+# Status codes of plan(); the failing joint is reported beside them.
+OK = 0
+STEP1_FAILED = 1  # no profile for this joint alone (numerical failure)
+ZERO_LIMITS = 2  # a zero limit makes the joint's move impossible
+SYNC_FAILED = 3  # no common duration every joint can take
+STEP2_FAILED = 4  # a joint could not take the common duration
+
+# Fields of the per-problem summary written by plan().
+OUT_DURATION = 0
+OUT_LIMITING = 1  # joint index, -1 where min_duration set the duration
+OUT_PHASE = 2  # 1 if phase synchronization held, 0 if it fell back to time sync
+OUT_JOINT = 3  # the joint a failure is about, -1 otherwise
+OUT_SIZE = 4
+
+_EPS = 2.220446049250313e-16
+
+
+@njit(cache=True, error_model="numpy")
+def _step1_raw(
+    prof,
+    p0,
+    v0,
+    a0,
+    pf,
+    vf,
+    af,
+    v_max,
+    v_min,
+    a_max,
+    a_min,
+    j_max,
+    control,
+    valid,
+    block,
+    block_times,
+):
+    """Brake, then the fastest profile and blocked intervals of one joint."""
+    for k in range(SIZE):
+        prof[k] = 0.0
+    third = not math.isinf(j_max)
+    if control == POSITION:
+        if third:
+            brake.position_brake(prof, v0, a0, v_max, v_min, a_max, a_min, j_max)
+        elif not math.isinf(a_max):
+            brake.second_order_position_brake(prof, v0, v_max, v_min, a_max, a_min)
+    elif third:
+        brake.velocity_brake(prof, a0, a_max, a_min, j_max)
+    set_boundary(prof, p0, v0, a0, pf, vf, af)
+    if third:
+        finalize_brake(prof)
+    else:
+        finalize_brake_second_order(prof)
+    if control == POSITION:
+        if third:
+            return jerk_fastest.fastest(
+                prof, v_max, v_min, a_max, a_min, j_max, valid, block, block_times
+            )
+        return acceleration_limited.fastest(
+            prof, v_max, v_min, a_max, a_min, valid, block, block_times
+        )
+    if third:
+        return velocity_target.jerk_fastest(prof, a_max, a_min, j_max, valid, block, block_times)
+    return velocity_target.acceleration_fastest(prof, a_max, a_min, valid, block, block_times)
+
+
+@njit(cache=True, error_model="numpy")
+def _step2_raw(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
+    """Re-plan one joint (its boundary and brake already in ``prof``) to take ``tf``."""
+    third = not math.isinf(j_max)
+    if control == POSITION:
+        if third:
+            return jerk_timed.timed(prof, tf, v_max, v_min, a_max, a_min, j_max)
+        return acceleration_limited.timed(prof, tf, v_max, v_min, a_max, a_min)
+    if third:
+        return velocity_target.jerk_timed(prof, tf, a_max, a_min, j_max)
+    return velocity_target.acceleration_timed(prof, tf, a_max, a_min)
+
+
+# Problems whose time or length scale lies outside this range are planned in rescaled units.
+_ORDINARY_LOW = 2.0**-10
+_ORDINARY_HIGH = 2.0**10
+
+
+@njit(cache=True, error_model="numpy")
+def _power_of_two(x):
+    """The power of two nearest ``x > 0`` (1 for ordinary ``x``)."""
+    if not (x > 0.0) or not math.isfinite(x) or _ORDINARY_LOW <= x <= _ORDINARY_HIGH:
+        return 1.0
+    _, exponent = math.frexp(x)
+    return math.ldexp(1.0, max(-1000, min(1000, exponent - 1)))
+
+
+@njit(cache=True, error_model="numpy")
+def _units(pd, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max):
+    """Units of time and length (powers of two) in which a joint's problem is ordinary.
+
+    The laws' tolerances are absolute (1e-8 in position, 1e-12 in velocity, 2e-16 in
+    time), so a move of 1e-40 rad, or one lasting a microsecond or a day, is planned
+    in units where its duration and magnitudes are near 1: time ``tau`` (s), length
+    ``lam``. Rescaling by powers of two is exact, and a profile's shape does not
+    depend on the units. Ordinary problems keep ``(1, 1)``, as the reference plans
+    them.
+    """
+    distance = abs(pd)
+    change = max(abs(v0), abs(vf), abs(vf - v0))
+    speed = min(v_max, -v_min)
+    push = min(a_max, -a_min)
+    duration = 0.0
+    if speed > 0.0:
+        duration = max(duration, distance / speed)
+    if push > 0.0:
+        duration = max(duration, math.sqrt(distance / push), change / push)
+    if math.isfinite(j_max) and j_max > 0.0:
+        duration = max(
+            duration,
+            (distance / j_max) ** (1.0 / 3.0),
+            math.sqrt(change / j_max),
+            max(abs(a0), abs(af)) / j_max,
+        )
+    tau = _power_of_two(duration)
+    size = max(distance, abs(v0) * tau, abs(vf) * tau, abs(a0) * tau * tau, abs(af) * tau * tau)
+    lam = _power_of_two(size)
+    if tau == 1.0 and lam == 1.0:
+        return 1.0, 1.0
+    # The limits in the new units must stay finite and normal (an infinite jerk
+    # limit means something else); where they would not, plan as given.
+    for limit in (
+        v_max * tau / lam,
+        -v_min * tau / lam,
+        a_max * tau * tau / lam,
+        -a_min * tau * tau / lam,
+    ):
+        if not (1e-300 < limit < 1e300):
+            return 1.0, 1.0
+    if math.isfinite(j_max) and not (1e-300 < j_max * tau**3 / lam < 1e300):
+        return 1.0, 1.0
+    return tau, lam
+
+
+@njit(cache=True, error_model="numpy")
+def _rescale(prof, tau, lam, origin, new_origin):
+    """A record in units ``tau`` times and ``lam`` times larger, positions about ``origin``.
+
+    Times are multiplied by ``tau``, lengths by ``lam`` (velocities by ``lam /
+    tau``...): the same motion described in other units.
+    """
+    v = lam / tau
+    a = v / tau
+    j = a / tau
+    for i in range(7):
+        prof[T + i] *= tau
+        prof[T_SUM + i] *= tau
+        prof[J + i] *= j
+    for i in range(8):
+        prof[P + i] = new_origin + (prof[P + i] - origin) * lam
+        prof[V + i] *= v
+        prof[A + i] *= a
+    prof[PF] = new_origin + (prof[PF] - origin) * lam
+    prof[REC_VF] *= v
+    prof[REC_AF] *= a
+    prof[BRAKE_DURATION] *= tau
+    for k in range(2):
+        prof[BRAKE_T + k] *= tau
+        prof[BRAKE_P + k] = new_origin + (prof[BRAKE_P + k] - origin) * lam
+        prof[BRAKE_V + k] *= v
+        prof[BRAKE_A + k] *= a
+        prof[BRAKE_J + k] *= j
+
+
+@njit(cache=True, error_model="numpy")
+def _step1(
+    prof,
+    p0,
+    v0,
+    a0,
+    pf,
+    vf,
+    af,
+    v_max,
+    v_min,
+    a_max,
+    a_min,
+    j_max,
+    control,
+    valid,
+    block,
+    block_times,
+):
+    """Brake, then the fastest profile and blocked intervals of one joint (any scale)."""
+    tau, lam = _units(pf - p0, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max)
+    if tau == 1.0 and lam == 1.0:
+        return _step1_raw(
+            prof,
+            p0,
+            v0,
+            a0,
+            pf,
+            vf,
+            af,
+            v_max,
+            v_min,
+            a_max,
+            a_min,
+            j_max,
+            control,
+            valid,
+            block,
+            block_times,
+        )
+    v = tau / lam
+    a = v * tau
+    j = j_max * a * tau if math.isfinite(j_max) else j_max
+    found = _step1_raw(
+        prof,
+        0.0,
+        v0 * v,
+        a0 * a,
+        (pf - p0) / lam,
+        vf * v,
+        af * a,
+        v_max * v,
+        v_min * v,
+        a_max * a,
+        a_min * a,
+        j,
+        control,
+        valid,
+        block,
+        block_times,
+    )
+    _rescale(prof, tau, lam, 0.0, p0)
+    for k in range(3):
+        _rescale(block[k], tau, lam, 0.0, p0)
+    for k in range(5):
+        block_times[k] *= tau
+    return found
+
+
+@njit(cache=True, error_model="numpy")
+def _step2(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
+    """Re-plan one joint (its boundary and brake already in ``prof``) to take ``tf``."""
+    p0 = prof[P]
+    tau, lam = _units(
+        prof[PF] - p0,
+        prof[V],
+        prof[A],
+        prof[REC_VF],
+        prof[REC_AF],
+        v_max,
+        v_min,
+        a_max,
+        a_min,
+        j_max,
+    )
+    if tau == 1.0 and lam == 1.0:
+        return _step2_raw(prof, tf, v_max, v_min, a_max, a_min, j_max, control)
+    origin = prof[BRAKE_P] if prof[BRAKE_DURATION] > 0.0 else p0
+    _rescale(prof, 1.0 / tau, 1.0 / lam, origin, 0.0)
+    v = tau / lam
+    a = v * tau
+    j = j_max * a * tau if math.isfinite(j_max) else j_max
+    found = _step2_raw(prof, tf / tau, v_max * v, v_min * v, a_max * a, a_min * a, j, control)
+    _rescale(prof, tau, lam, 0.0, origin)
+    return found
+
+
+@njit(cache=True, error_model="numpy")
+def _has_zero_limits(a_max, a_min, j_max):
+    return a_max == 0.0 or a_min == 0.0 or j_max == 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def _round_up(t, dt):
+    """``t`` rounded up to a whole number of periods ``dt`` (exact multiples stay)."""
+    remainder = np.fmod(t, dt)
+    if remainder > _EPS:
+        return t + dt - remainder
+    return t
+
+
+@njit(cache=True, error_model="numpy")
+def _synchronize(block_times, sync, min_duration, dt, candidates, order):
+    """The common duration and where it comes from.
+
+    Returns ``(duration, source)``: ``source`` indexes ``candidates`` laid out as
+    ruckig's (``k * ndof + joint`` for the joint's minimum, k = 0, and the right
+    ends of its blocked intervals, k = 1, 2; ``3 * ndof`` for ``min_duration``), or
+    -1 when no duration works.
+    """
+    ndof = block_times.shape[0]
+    any_interval = False
+    for d in range(ndof):
+        if sync[d] == SYNC_NONE:
+            candidates[d] = -1.0  # sorts first, never chosen
+            candidates[ndof + d] = math.inf
+            candidates[2 * ndof + d] = math.inf
+            continue
+        candidates[d] = block_times[d, 0]
+        candidates[ndof + d] = block_times[d, 2]
+        candidates[2 * ndof + d] = block_times[d, 4]
+        if not math.isinf(block_times[d, 2]) or not math.isinf(block_times[d, 4]):
+            any_interval = True
+    has_minimum = not math.isnan(min_duration)
+    candidates[3 * ndof] = min_duration if has_minimum else math.inf
+    any_interval = any_interval or has_minimum
+    if dt > 0.0:
+        for k in range(3 * ndof + 1):
+            if not math.isinf(candidates[k]):
+                candidates[k] = _round_up(candidates[k], dt)
+    count = 3 * ndof + 1 if any_interval else ndof
+    for k in range(count):
+        order[k] = k
+    # Insertion sort: a handful of entries, stable like the reference's std::sort
+    # on distinct values.
+    for k in range(1, count):
+        key = order[k]
+        m = k - 1
+        while m >= 0 and candidates[order[m]] > candidates[key]:
+            order[m + 1] = order[m]
+            m -= 1
+        order[m + 1] = key
+    floor = min_duration if has_minimum else 0.0
+    for k in range(ndof - 1, count):
+        t = candidates[order[k]]
+        if math.isinf(t) or t < floor:
+            continue
+        blocked = False
+        for d in range(ndof):
+            if sync[d] != SYNC_NONE and jerk_fastest.is_blocked(block_times[d], t):
+                blocked = True
+                break
+        if blocked:
+            continue
+        source = order[k]
+        if source < ndof:
+            # Of joints whose minimum ties, the first is named the limiting one.
+            for d in range(ndof):
+                if sync[d] != SYNC_NONE and candidates[d] == t:
+                    return t, d
+        return t, source
+    everyone_free = True
+    for d in range(ndof):
+        if sync[d] != SYNC_NONE:
+            everyone_free = False
+    if everyone_free:
+        return 0.0, 3 * ndof  # the joints' own durations decide (see plan)
+    return math.nan, -1
+
+
+@njit(cache=True, error_model="numpy")
+def _collinear(x, y, ratio):
+    """``x == ratio * y`` up to rounding (both sides computed from user numbers)."""
+    return abs(x - ratio * y) <= 1e-13 * (abs(x) + abs(ratio * y)) + 1e-300
+
+
+@njit(cache=True, error_model="numpy")
+def _phase_law(m, control, sync, enabled, scale, law):
+    """The shared time law of the phase-synchronized joints, if their boundaries allow one.
+
+    Phase synchronization moves every such joint as ``q0 + scale[d] * s(t)``: one
+    law ``s`` for all, so they switch phases together and move on a straight line
+    in joint space. That needs their boundary states collinear: every joint's move,
+    start and target velocity and acceleration the same multiple of ``scale``.
+    Writes ``scale`` and the law's problem (a one-joint matrix ``law`` (11, 1),
+    limits the tightest of the joints' limits divided by their scale) and returns
+    True; False where the boundaries are not collinear. Joints that all stand
+    still share the law of standing still.
+    """
+    ndof = m.shape[1]
+    reference = -1
+    row = -1
+    for d in range(ndof):
+        if sync[d] != SYNC_PHASE or enabled[d] == 0 or control[d] != POSITION:
+            continue
+        if m[QF, d] - m[Q0, d] != 0.0:
+            row = 0
+        elif m[V0, d] != 0.0:
+            row = V0
+        elif m[A0, d] != 0.0:
+            row = A0
+        elif m[VF, d] != 0.0:
+            row = VF
+        elif m[AF, d] != 0.0:
+            row = AF
+        else:
+            continue
+        reference = d
+        break
+    if reference < 0:
+        for d in range(ndof):
+            scale[d] = 0.0
+        for r in range(11):
+            law[r, 0] = 0.0
+        law[V_MIN, 0], law[V_MAX, 0], law[A_MIN, 0], law[A_MAX, 0], law[J_MAX, 0] = (
+            -1.0,
+            1.0,
+            -1.0,
+            1.0,
+            1.0,
+        )
+        return True
+    for d in range(ndof):
+        scale[d] = 0.0
+        if sync[d] == SYNC_PHASE and enabled[d] != 0 and control[d] == POSITION:
+            scale[d] = m[QF, d] - m[Q0, d] if row == 0 else m[row, d]
+    c_ref = scale[reference]
+    ratios = (
+        (m[QF, reference] - m[Q0, reference]) / c_ref,
+        m[V0, reference] / c_ref,
+        m[A0, reference] / c_ref,
+        m[VF, reference] / c_ref,
+        m[AF, reference] / c_ref,
+    )
+    v_upper = math.inf
+    v_lower = -math.inf
+    a_upper = math.inf
+    a_lower = -math.inf
+    j_bound = math.inf
+    for d in range(ndof):
+        if sync[d] != SYNC_PHASE or enabled[d] == 0 or control[d] != POSITION:
+            continue
+        c = scale[d]
+        if not (
+            _collinear(m[QF, d] - m[Q0, d], ratios[0], c)
+            and _collinear(m[V0, d], ratios[1], c)
+            and _collinear(m[A0, d], ratios[2], c)
+            and _collinear(m[VF, d], ratios[3], c)
+            and _collinear(m[AF, d], ratios[4], c)
+        ):
+            return False
+        if c == 0.0:
+            continue  # at rest throughout: no bound on the law
+        high_v, low_v = m[V_MAX, d] / c, m[V_MIN, d] / c
+        high_a, low_a = m[A_MAX, d] / c, m[A_MIN, d] / c
+        if c < 0.0:
+            high_v, low_v = low_v, high_v
+            high_a, low_a = low_a, high_a
+        v_upper = min(v_upper, high_v)
+        v_lower = max(v_lower, low_v)
+        a_upper = min(a_upper, high_a)
+        a_lower = max(a_lower, low_a)
+        j_bound = min(j_bound, m[J_MAX, d] / abs(c))
+    law[Q0, 0] = 0.0
+    law[QF, 0] = ratios[0]
+    law[V0, 0] = ratios[1]
+    law[A0, 0] = ratios[2]
+    law[VF, 0] = ratios[3]
+    law[AF, 0] = ratios[4]
+    law[V_MIN, 0] = v_lower
+    law[V_MAX, 0] = v_upper
+    law[A_MIN, 0] = a_lower
+    law[A_MAX, 0] = a_upper
+    law[J_MAX, 0] = j_bound
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _scaled_law(law, c, m, d, prof):
+    """Joint ``d``'s record: the law's scaled by ``c`` from its start, targets exact."""
+    q0 = m[Q0, d]
+    for k in range(SIZE):
+        prof[k] = law[k]
+    for i in range(7):
+        prof[J + i] = c * law[J + i]
+    for i in range(8):
+        prof[A + i] = c * law[A + i]
+        prof[V + i] = c * law[V + i]
+        prof[P + i] = q0 + c * law[P + i]
+    for k in range(2):
+        prof[BRAKE_J + k] = c * law[BRAKE_J + k]
+        prof[BRAKE_A + k] = c * law[BRAKE_A + k]
+        prof[BRAKE_V + k] = c * law[BRAKE_V + k]
+        prof[BRAKE_P + k] = q0 + c * law[BRAKE_P + k]
+    prof[PF] = m[QF, d]
+    prof[REC_VF] = m[VF, d]
+    prof[REC_AF] = m[AF, d]
+
+
+@njit(cache=True, error_model="numpy")
+def plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out):
+    """Plan one problem of ``ndof`` joints; returns a status code (``OK`` on success).
+
+    ``m`` is the (11, ndof) problem matrix, rows as in
+    :mod:`trajkit.profiles._kernels.admissible` (q0, qf, v0, vf, a0, af, v_min,
+    v_max, a_min, a_max, j_max); ``control``, ``sync`` and ``enabled`` are int64
+    vectors; ``j_max = inf`` plans acceleration-limited (second-order) profiles;
+    ``min_duration`` is NaN for none; ``dt > 0`` rounds the duration up to whole
+    periods (every joint is then re-planned to take it). Writes each joint's
+    profile record into ``profiles`` (ndof, SIZE), each joint's own minimum
+    duration into ``independent`` and the summary into ``out`` (``OUT_*`` fields).
+
+    Phase-synchronized joints whose boundaries are collinear share one time law
+    (:func:`_phase_law`), which takes part in the synchronization as one more
+    joint; where they are not collinear they are time-synchronized and
+    ``out[OUT_PHASE]`` stays 0.
+    """
+    p0, pf, v0, vf, a0, af = m[Q0], m[QF], m[V0], m[VF], m[A0], m[AF]
+    v_min, v_max, a_min, a_max, j_max = m[V_MIN], m[V_MAX], m[A_MIN], m[A_MAX], m[J_MAX]
+    ndof = p0.shape[0]
+    n = ndof + 1  # the joints and the phase law
+    valid = np.empty((6, SIZE))
+    blocks = np.empty((n, 3, SIZE))
+    block_times = np.empty((n, 5))
+    out[OUT_DURATION] = math.nan
+    out[OUT_LIMITING] = -1.0
+    out[OUT_PHASE] = 0.0
+    out[OUT_JOINT] = -1.0
+    for d in range(ndof):
+        prof = profiles[d]
+        if enabled[d] == 0:
+            for k in range(SIZE):
+                prof[k] = 0.0
+            set_boundary(prof, p0[d], v0[d], a0[d], p0[d], v0[d], a0[d])
+            prof[P + 7] = p0[d]
+            prof[V + 7] = v0[d]
+            prof[A + 7] = a0[d]
+            block_times[d, 0] = 0.0
+            for k in range(1, 5):
+                block_times[d, k] = math.inf
+            blocks[d, 0] = prof
+            independent[d] = 0.0
+            continue
+        found = _step1(
+            prof,
+            p0[d],
+            v0[d],
+            a0[d],
+            pf[d],
+            vf[d],
+            af[d],
+            v_max[d],
+            v_min[d],
+            a_max[d],
+            a_min[d],
+            j_max[d],
+            control[d],
+            valid,
+            blocks[d],
+            block_times[d],
+        )
+        if not found:
+            out[OUT_JOINT] = d
+            if _has_zero_limits(a_max[d], a_min[d], j_max[d]):
+                return ZERO_LIMITS
+            return STEP1_FAILED
+        independent[d] = block_times[d, 0]
+
+    # Which joints synchronize how: the law stands in for the phase joints.
+    roles = np.empty(n, np.int64)
+    for d in range(ndof):
+        roles[d] = sync[d] if enabled[d] != 0 else SYNC_NONE
+    roles[ndof] = SYNC_NONE
+    scale = np.zeros(ndof)
+    law_m = np.empty((11, 1))
+    law = np.empty(SIZE)
+    use_law = False
+    for d in range(ndof):
+        if roles[d] == SYNC_PHASE:
+            use_law = True
+    if use_law:
+        use_law = _phase_law(m, control, roles, enabled, scale, law_m)
+    if use_law:
+        found = _step1(
+            law,
+            0.0,
+            law_m[V0, 0],
+            law_m[A0, 0],
+            law_m[QF, 0],
+            law_m[VF, 0],
+            law_m[AF, 0],
+            law_m[V_MAX, 0],
+            law_m[V_MIN, 0],
+            law_m[A_MAX, 0],
+            law_m[A_MIN, 0],
+            law_m[J_MAX, 0],
+            POSITION,
+            valid,
+            blocks[ndof],
+            block_times[ndof],
+        )
+        if not found:
+            out[OUT_JOINT] = -1
+            return STEP1_FAILED
+        for d in range(ndof):
+            if roles[d] == SYNC_PHASE and control[d] == POSITION:
+                roles[d] = _LAW
+        roles[ndof] = SYNC_TIME
+        out[OUT_PHASE] = 1.0
+    else:
+        for d in range(ndof):
+            if roles[d] == SYNC_PHASE:
+                roles[d] = SYNC_TIME  # not collinear: time-synchronized instead
+        block_times[ndof, 0] = 0.0
+        for k in range(1, 5):
+            block_times[ndof, k] = math.inf
+
+    discrete = dt > 0.0
+    has_minimum = not math.isnan(min_duration)
+    if ndof == 1 and not has_minimum and not discrete and not use_law:
+        profiles[0] = blocks[0, 0]
+        out[OUT_DURATION] = block_times[0, 0]
+        out[OUT_LIMITING] = 0.0
+        return OK
+
+    candidates = np.empty(3 * n + 1)
+    order = np.empty(3 * n + 1, np.int64)
+    voting = np.empty(n, np.int64)
+    for d in range(n):
+        voting[d] = SYNC_NONE if roles[d] == _LAW else roles[d]
+    duration, source = _synchronize(block_times, voting, min_duration, dt, candidates, order)
+    if source < 0:
+        for d in range(ndof):
+            if _has_zero_limits(a_max[d], a_min[d], j_max[d]):
+                return ZERO_LIMITS
+        return SYNC_FAILED
+    limiting = -1
+    if source < 3 * n:
+        limiting = source % n
+        if limiting < ndof:
+            profiles[limiting] = blocks[limiting, source // n]
+    # Joints left out of synchronization move as fast as they can; the longest of
+    # them may set the duration.
+    all_none = True
+    for d in range(ndof):
+        if roles[d] != SYNC_NONE:
+            all_none = False
+        if enabled[d] != 0 and roles[d] == SYNC_NONE:
+            profiles[d] = blocks[d, 0]
+            own = _round_up(block_times[d, 0], dt) if discrete else block_times[d, 0]
+            if own > duration:
+                duration = own
+                limiting = d
+    out[OUT_DURATION] = duration
+    out[OUT_LIMITING] = limiting if limiting < ndof else -1
+    if duration == 0.0:
+        for d in range(ndof):
+            profiles[d] = blocks[d, 0]
+        return OK
+    if not discrete and all_none:
+        return OK
+
+    if use_law:
+        law[:] = blocks[ndof, 0]
+        if not _take_duration(
+            law,
+            blocks[ndof],
+            block_times[ndof],
+            duration,
+            law_m[V_MAX, 0],
+            law_m[V_MIN, 0],
+            law_m[A_MAX, 0],
+            law_m[A_MIN, 0],
+            law_m[J_MAX, 0],
+            POSITION,
+            limiting == ndof and not discrete,
+        ):
+            out[OUT_JOINT] = -1
+            return STEP2_FAILED
+        for d in range(ndof):
+            if roles[d] == _LAW:
+                _scaled_law(law, scale[d], m, d, profiles[d])
+
+    for d in range(ndof):
+        if enabled[d] == 0 or roles[d] == _LAW:
+            continue
+        if (d == limiting or roles[d] == SYNC_NONE) and not discrete:
+            continue
+        prof = profiles[d]
+        if roles[d] == SYNC_TIME_IF_NECESSARY and abs(vf[d]) < _EPS and abs(af[d]) < _EPS:
+            prof[:] = blocks[d, 0]
+            continue
+        if roles[d] == SYNC_NONE:
+            # Discrete durations: a joint on its own still ends on the grid.
+            own = _round_up(block_times[d, 0], dt)
+        else:
+            own = duration
+        if not _take_duration(
+            prof,
+            blocks[d],
+            block_times[d],
+            own,
+            v_max[d],
+            v_min[d],
+            a_max[d],
+            a_min[d],
+            j_max[d],
+            control[d],
+            False,
+        ):
+            out[OUT_JOINT] = d
+            return STEP2_FAILED
+    return OK
+
+
+@njit(cache=True, error_model="numpy")
+def _take_duration(
+    prof, block, times, duration, v_max, v_min, a_max, a_min, j_max, control, is_minimum
+):
+    """Write into ``prof`` the joint's profile of exactly ``duration`` (brake included).
+
+    Step 1's profiles are reused where the duration is one of theirs (the
+    minimum, or the right end of a blocked interval); otherwise step 2.
+    """
+    if is_minimum:
+        prof[:] = block[0]
+        return True
+    t_profile = duration - block[0, BRAKE_DURATION]
+    if abs(t_profile - (times[0] - block[0, BRAKE_DURATION])) < 2 * _EPS:
+        prof[:] = block[0]
+        return True
+    for k in (1, 2):
+        right = times[2 * k]
+        if not math.isinf(right) and abs(duration - right) < 2 * _EPS:
+            prof[:] = block[k]
+            return True
+    prof[:] = block[0]
+    if _step2(prof, t_profile, v_max, v_min, a_max, a_min, j_max, control):
+        return True
+    # The closed forms can lose the move to cancellation when the duration dwarfs
+    # the joint's own (a 1e-38 rad move stretched over seconds); a move between
+    # states of rest is then its fastest profile slowed down.
+    return _slowed_down(prof, block[0], t_profile, math.isinf(j_max))
+
+
+@njit(cache=True, error_model="numpy")
+def _slowed_down(prof, fastest, tf, second_order):
+    """``fastest`` (rest to rest, no brake) slowed to take ``tf`` s; False if not at rest.
+
+    Slowing a profile by ``k = tf / t`` divides its velocities by ``k``, its
+    accelerations by ``k**2`` and its jerks by ``k**3``: the same path, within
+    the same limits, taking ``k`` times as long.
+    """
+    if fastest[BRAKE_DURATION] != 0.0 or not _at_rest(fastest, second_order):
+        return False
+    own = fastest[T_SUM + 6]
+    if not (own > 0.0 and tf >= own):
+        return False
+    k = tf / own
+    prof[:] = fastest
+    total = 0.0
+    for i in range(7):
+        prof[T + i] = fastest[T + i] * k
+        total += prof[T + i]
+        prof[T_SUM + i] = total
+        if second_order:
+            prof[A + i] = fastest[A + i] / (k * k)
+        else:
+            prof[J + i] = fastest[J + i] / (k * k * k)
+    for i in range(7):
+        t = prof[T + i]
+        a = prof[A + i]
+        v = prof[V + i]
+        if second_order:
+            prof[V + i + 1] = v + t * a
+            prof[P + i + 1] = prof[P + i] + t * (v + t * a / 2.0)
+        else:
+            j = prof[J + i]
+            prof[A + i + 1] = a + t * j
+            prof[V + i + 1] = v + t * (a + t * j / 2.0)
+            prof[P + i + 1] = prof[P + i] + t * (v + t * (a / 2.0 + t * j / 6.0))
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _at_rest(rec, second_order):
+    """True if a record starts and ends at rest (zero velocity and acceleration).
+
+    A second-order record's ``a[0]`` is its first phase's acceleration, not a state.
+    """
+    still = second_order or rec[A] == 0.0
+    return still and rec[V] == 0.0 and rec[REC_VF] == 0.0 and rec[REC_AF] == 0.0
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def plan_batch(m, control, sync, enabled, min_duration, dt, profiles, independent, out, status):
+    """:func:`plan` for ``B`` problems (every array with ``B`` first), in parallel."""
+    for i in prange(m.shape[0]):
+        status[i] = plan(
+            m[i],
+            control[i],
+            sync[i],
+            enabled[i],
+            min_duration[i],
+            dt,
+            profiles[i],
+            independent[i],
+            out[i],
+        )

@@ -1,0 +1,293 @@
+"""Phase tables: the compact form of planned motions that everything downstream reads.
+
+A joint's plan is its start state ``(p0, v0, a0)`` and nine phases (two of brake,
+seven of profile), each a duration ``t`` and a control ``u``: the jerk of a
+jerk-limited joint, the (constant) acceleration of an acceleration-limited one.
+Integrating the phases from the start state gives every phase's start state; a
+joint whose phases end before the common duration continues from its target
+position and velocity with zero acceleration.
+
+One problem's tables become a :class:`trajkit.Trajectory` (:func:`pieces`); a
+batch's tables are evaluated in place (:func:`evaluate_batch`) and problem ``i``
+of a batch is the same conversion of its slice.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from trajkit.profiles._kernels.layout import BRAKE_A, BRAKE_J, BRAKE_T, A, J, T
+
+PHASES = 9  # two brake phases, seven profile phases
+# Breakpoints closer than this (relative to the duration) are one switch computed
+# along two roundings (as in trajkit.profiles._phases).
+MERGE = 4e-16
+# An exact end value is kept where it agrees with the pieces to this (relative to
+# the size of the terms summed, plus an absolute floor): Trajectory's own rule.
+BOUNDARY_RTOL = 1e-6
+BOUNDARY_ATOL = 1e-9
+
+
+@njit(cache=True, error_model="numpy")
+def compact(record, second_order, t, u):
+    """A profile record's nine phases as durations ``t`` and controls ``u``."""
+    for k in range(2):
+        t[k] = record[BRAKE_T + k]
+        u[k] = record[BRAKE_A + k] if second_order else record[BRAKE_J + k]
+    for i in range(7):
+        t[2 + i] = record[T + i]
+        u[2 + i] = record[A + i] if second_order else record[J + i]
+
+
+@njit(cache=True, error_model="numpy")
+def phase_states(p0, v0, a0, t, u, second_order, starts, states):
+    """Start time and state (p, v, a, j) of each of the nine phases; returns the end time.
+
+    Empty phases get the state where they stand (their successors start there).
+    """
+    p, v, a = p0, v0, a0
+    clock = 0.0
+    for k in range(PHASES):
+        tk = t[k]
+        if second_order:
+            a = u[k] if tk > 0.0 else 0.0
+            j = 0.0
+        else:
+            j = u[k]
+        starts[k] = clock
+        states[k, 0] = p
+        states[k, 1] = v
+        states[k, 2] = a
+        states[k, 3] = j
+        if tk > 0.0:
+            p = p + tk * (v + tk * (a / 2.0 + tk * j / 6.0))
+            v = v + tk * (a + tk * j / 2.0)
+            a = a + tk * j
+            clock += tk
+    return clock
+
+
+@njit(cache=True, error_model="numpy")
+def _joint_tables(start, t, u, second, starts, states, finish):
+    ndof = start.shape[1]
+    for d in range(ndof):
+        finish[d] = phase_states(
+            start[0, d], start[1, d], start[2, d], t[d], u[d], second[d], starts[d], states[d]
+        )
+
+
+@njit(cache=True, error_model="numpy")
+def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end):
+    """One problem's tables as a piecewise cubic; returns the number of pieces ``m``.
+
+    ``start`` and ``target`` are (3, ndof) (position, velocity, acceleration), ``t``
+    and ``u`` (ndof, 9), ``second`` (ndof,) bool. Fills ``breakpoints`` (m + 1),
+    ``coefficients`` (4, m, ndof) (local power basis, highest power first) and
+    ``end`` (3, ndof): the exact target state where the pieces reach it up to
+    rounding, NaN where the polynomial's own value must stand (a joint still
+    coasting at the end, a trapezoid's acceleration, an unresolvable plan). The
+    arrays must hold ``PHASES * ndof + 2`` breakpoints.
+    """
+    ndof = start.shape[1]
+    starts = np.empty((ndof, PHASES))
+    states = np.empty((ndof, PHASES, 4))
+    finish = np.empty(ndof)
+    _joint_tables(start, t, u, second, starts, states, finish)
+    count = 0
+    breakpoints[count] = 0.0
+    count += 1
+    for d in range(ndof):
+        for k in range(PHASES):
+            if t[d, k] > 0.0:
+                edge = starts[d, k] + t[d, k]
+                if 0.0 < edge < duration:
+                    breakpoints[count] = edge
+                    count += 1
+    breakpoints[count] = duration
+    count += 1
+    # Sort (a few dozen entries) and merge near-duplicates.
+    for k in range(1, count):
+        key = breakpoints[k]
+        m = k - 1
+        while m >= 0 and breakpoints[m] > key:
+            breakpoints[m + 1] = breakpoints[m]
+            m -= 1
+        breakpoints[m + 1] = key
+    merged = 1
+    for k in range(1, count):
+        if breakpoints[k] - breakpoints[merged - 1] > MERGE * duration:
+            breakpoints[merged] = breakpoints[k]
+            merged += 1
+    if merged >= 2 and duration - breakpoints[merged - 2] <= MERGE * duration:
+        merged -= 1
+    breakpoints[merged - 1] = duration
+    if merged < 2:
+        breakpoints[0] = 0.0
+        breakpoints[1] = duration
+        merged = 2
+    m = merged - 1
+    for k in range(m):
+        left = breakpoints[k]
+        middle = 0.5 * (left + breakpoints[k + 1])
+        for d in range(ndof):
+            p, v, a, j, x = _state_before(d, middle, left, t, starts, states, finish, target)
+            coefficients[0, k, d] = j / 6.0
+            coefficients[1, k, d] = (a + j * x) / 2.0
+            coefficients[2, k, d] = v + x * (a + x * j / 2.0)
+            coefficients[3, k, d] = p + x * (v + x * (a / 2.0 + x * j / 6.0))
+    _end_state(target, breakpoints, coefficients, m, finish, duration, second, end)
+    return m
+
+
+@njit(cache=True, error_model="numpy")
+def _state_before(d, middle, left, t, starts, states, finish, target):
+    """Phase state of joint ``d`` covering ``middle``, and the offset of ``left`` in it."""
+    if middle >= finish[d]:
+        # Past its own end: from the target, at its velocity, no acceleration.
+        return target[0, d], target[1, d], 0.0, 0.0, left - finish[d]
+    phase = 0
+    for q in range(PHASES):
+        if t[d, q] > 0.0 and starts[d, q] <= middle:
+            phase = q
+    x = left - starts[d, phase]
+    return states[d, phase, 0], states[d, phase, 1], states[d, phase, 2], states[d, phase, 3], x
+
+
+@njit(cache=True, error_model="numpy")
+def _end_state(target, breakpoints, coefficients, m, finish, duration, second, end):
+    """The exact end state where the pieces agree with it (Trajectory's tolerance)."""
+    ndof = target.shape[1]
+    h = breakpoints[m] - breakpoints[m - 1]
+    for d in range(ndof):
+        c3 = coefficients[0, m - 1, d]
+        c2 = coefficients[1, m - 1, d]
+        c1 = coefficients[2, m - 1, d]
+        c0 = coefficients[3, m - 1, d]
+        values = (
+            c0 + h * (c1 + h * (c2 + h * c3)),
+            c1 + h * (2.0 * c2 + h * 3.0 * c3),
+            2.0 * c2 + h * 6.0 * c3,
+        )
+        for order in range(3):
+            # The size of this derivative's terms anywhere in the motion.
+            scale = 0.0
+            for k in range(m):
+                length = breakpoints[k + 1] - breakpoints[k]
+                size = 0.0
+                power = 1.0
+                for q in range(4 - order):
+                    factor = 1.0
+                    for r in range(order):
+                        factor *= q + order - r
+                    size += abs(coefficients[3 - order - q, k, d] * factor) * power
+                    power *= length
+                if size > scale:
+                    scale = size
+            value = target[order, d]
+            scale += abs(value)
+            if order == 2 and second[d]:
+                value = math.nan  # a trapezoid's acceleration jumps: no exact value
+            elif order == 0 and finish[d] < duration and target[1, d] != 0.0:
+                value = math.nan  # still coasting at its target velocity
+            if abs(value - values[order]) > BOUNDARY_RTOL * scale + BOUNDARY_ATOL:
+                value = math.nan
+            end[order, d] = value
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def evaluate_batch(start, target, t, u, second, durations, times, order, out):
+    """Derivative ``order`` of every problem at ``times``: ``out`` (B, m, ndof).
+
+    Each problem is turned into its pieces by :func:`pieces` and evaluated as its
+    :class:`trajkit.Trajectory` would be: times clamped to ``[0, duration]``, the
+    exact end state from the end on where the pieces reach it.
+    """
+    count = start.shape[0]
+    ndof = start.shape[2]
+    size = PHASES * ndof + 2
+    for i in prange(count):
+        breakpoints = np.empty(size)
+        coefficients = np.empty((4, size - 1, ndof))
+        end = np.empty((3, ndof))
+        duration = durations[i]
+        m = pieces(
+            start[i], target[i], t[i], u[i], second[i], duration, breakpoints, coefficients, end
+        )
+        for k in range(times.shape[0]):
+            clock = min(max(times[k], 0.0), duration)
+            piece = 0
+            while piece < m - 1 and breakpoints[piece + 1] <= clock:
+                piece += 1
+            x = clock - breakpoints[piece]
+            for d in range(ndof):
+                if clock >= duration and order < 3 and not math.isnan(end[order, d]):
+                    out[i, k, d] = end[order, d]
+                    continue
+                c3 = coefficients[0, piece, d]
+                c2 = coefficients[1, piece, d]
+                c1 = coefficients[2, piece, d]
+                c0 = coefficients[3, piece, d]
+                if order == 0:
+                    value = c0 + x * (c1 + x * (c2 + x * c3))
+                elif order == 1:
+                    value = c1 + x * (2.0 * c2 + x * 3.0 * c3)
+                elif order == 2:
+                    value = 2.0 * c2 + x * 6.0 * c3
+                else:
+                    value = 6.0 * c3
+                out[i, k, d] = value
+
+
+@njit(cache=True, error_model="numpy")
+def stretches(t, u, times, accelerations):
+    """An acceleration-limited joint's profile as rise, coast and fall.
+
+    ``t``, ``u`` are its nine phases (durations, accelerations); the brake phases
+    (the first two) are left out. Acceleration-limited profiles accelerate in
+    profile phase 0, coast in phases 1, 3 and 5 and accelerate again in phases 2,
+    4 and 6, of which at most one is used: rise, coast and fall by the phases'
+    roles (a joint following a phase-synchronized law keeps the law's phase times
+    even where its own move is zero). Fills ``times`` (3,) and ``accelerations``
+    (2,); returns False for a profile outside that pattern (which the engine
+    never plans: a defect to report).
+    """
+    times[0] = t[2]
+    times[1] = t[3] + t[5] + t[7]
+    times[2] = 0.0
+    accelerations[0] = u[2] if t[2] > 0.0 else 0.0
+    accelerations[1] = 0.0
+    falls = 0
+    for k in (4, 6, 8):
+        if t[k] > 0.0:
+            falls += 1
+            times[2] += t[k]
+            accelerations[1] = u[k]
+    return falls <= 1
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def stretches_batch(t, u, times, accelerations, ok):
+    """:func:`stretches` for (B, ndof) joints; ``ok`` (B, ndof) says where it fitted."""
+    for i in prange(t.shape[0]):
+        for d in range(t.shape[1]):
+            ok[i, d] = stretches(t[i, d], u[i, d], times[i, d], accelerations[i, d])
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def velocities_at_phases(start, t, u, second, v):
+    """Velocity at the start of each of the nine phases: ``v`` (B, ndof, 9)."""
+    for i in prange(t.shape[0]):
+        for d in range(t.shape[1]):
+            vel = start[i, 1, d]
+            acc = start[i, 2, d]
+            for k in range(PHASES):
+                v[i, d, k] = vel
+                tk = t[i, d, k]
+                if tk <= 0.0:
+                    continue
+                if second[i, d]:
+                    vel += tk * u[i, d, k]
+                else:
+                    vel += tk * (acc + tk * u[i, d, k] / 2.0)
+                    acc += tk * u[i, d, k]
