@@ -9,7 +9,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from trajkit import batch
+from trajkit import batch, online
 from trajkit.errors import (
     ContinuityWarning,
     InfeasibleError,
@@ -51,6 +51,7 @@ __all__ = [
     "Violation",
     "__version__",
     "batch",
+    "online",
     "blended",
     "check",
     "cubic",

@@ -16,8 +16,11 @@ Last full run: ``TRAJKIT_ORACLE_PROBLEMS=300000`` (slow sweeps), plus scratch
 families with limits on [10, 1e6], states exactly on a limit, pure coasts,
 limit ratios of 1e5 and limits near 1e-3 (4000 each): no difference.
 
-Where one library succeeds and the other fails: none met in the draws below (the
-tests assert so; the sweeps report any they meet). Stale state in the ruckig
+Where one library succeeds and the other fails: at scales 1e3 and 1e5 ruckig's
+absolute tolerances reject some problems our fallbacks (plans in the move's own
+units) solve; ``test_scales`` checks those against ruckig on the same problem
+rescaled by a power of two. Elsewhere none met in the draws below (the tests
+assert so; the sweeps report any they meet). Stale state in the ruckig
 Python package (0.19) that the tests avoid by building a fresh ``Ruckig`` and
 ``Trajectory`` per problem (our kernels write every output field each call):
 
@@ -334,9 +337,12 @@ def test_scales(scale):
         pb = scaled(draw(rng, asymmetric=i % 2 == 0), scale)
         ok, _block, bt = ours_fastest(pb)
         traj = ruckig_solve([pb])
-        assert ok == (traj is not None), pb
-        if ok:
+        if traj is not None:
+            assert ok, pb
             assert close(bt[0], traj.duration), (pb, bt[0], traj.duration)
+        elif ok:  # ruckig's absolute tolerances fail at this size; exact change of units
+            theirs = ruckig_solve([scaled(pb, 2.0 ** -round(math.log2(scale)))])
+            assert theirs is not None and close(bt[0], theirs.duration), pb
 
 
 def test_tiny_scale_same_outcome_as_ruckig():

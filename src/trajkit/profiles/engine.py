@@ -45,6 +45,12 @@ def kernels() -> ModuleType:
     if not _checked:
         _checked = True
         _drop_stale_cache()
+        # numba's default OpenMP layer dies in a process forked after it ran (the
+        # sweep's worker pool forks); the workqueue layer does not. A user's own
+        # choice (the environment variable) stands.
+        import os
+
+        os.environ.setdefault("NUMBA_THREADING_LAYER", "workqueue")
     from trajkit.profiles._kernels import solve
 
     return solve
@@ -120,6 +126,8 @@ _SIZE = 64  # layout.SIZE
 _PHASES = 9  # tables.PHASES
 _OUT_SIZE = 4  # synchronize.OUT_SIZE; fields: duration, limiting joint, phase held, joint
 _OK, _STEP1_FAILED, _ZERO_LIMITS, _SYNC_FAILED, _STEP2_FAILED = 0, 1, 2, 3, 4
+_GRID_FAILED, _VELOCITY_UNSUPPORTED = 5, 6  # quantize.GRID_FAILED, VELOCITY_UNSUPPORTED
+_MAX_EXTRA_PERIODS = 16  # quantize.MAX_EXTRA_PERIODS
 
 
 @dataclass(frozen=True)
@@ -168,6 +176,7 @@ def solve(
     enabled: NDArray[np.int64] | None = None,
     min_duration: float | FloatArray | None = None,
     dt: float | None = None,
+    grid: str = "switches",
 ) -> EngineResult:
     """Plan one problem (``m`` of shape ``(11, ndof)``) or a batch (``(B, 11, ndof)``).
 
@@ -175,7 +184,8 @@ def solve(
     v0, vf, a0, af, v_min, v_max, a_min, a_max, j_max); inputs are trusted
     (validated, float64, C-contiguous; the int arrays int64, ``(ndof,)`` or
     ``(B, ndof)``). ``min_duration`` (s) is a floor on the duration, ``dt`` (s)
-    makes the duration a whole number of periods.
+    puts every switching time on the period grid (``grid="switches"``) or only
+    the duration (``grid="duration"``).
 
     Raises
     ------
@@ -195,6 +205,7 @@ def solve(
     t = np.empty((*shape, _PHASES))
     u = np.empty((*shape, _PHASES))
     step = 0.0 if dt is None else float(dt)
+    switches = grid == "switches"
     records = pieces = None
     if batch:
         floor = (
@@ -203,11 +214,26 @@ def solve(
             else np.broadcast_to(np.asarray(min_duration, dtype=np.float64), leading).copy()
         )
         status = np.empty(leading, np.int64)
-        run("batch", mod.batch, m, control, sync, enabled, floor, step, t, u, own, out, status)
+        run(
+            "batch",
+            mod.batch,
+            m,
+            control,
+            sync,
+            enabled,
+            floor,
+            step,
+            switches,
+            t,
+            u,
+            own,
+            out,
+            status,
+        )
         bad = np.flatnonzero(status != _OK)
         if bad.size:
             i = int(bad[0])
-            raise _failure(planner, int(status[i]), out[i], m[i], f" in problem {i}")
+            raise _failure(planner, int(status[i]), out[i], m[i], f" in problem {i}", step)
     else:
         floor = np.nan if min_duration is None else float(min_duration)
         records = np.empty((ndof, _SIZE))
@@ -223,6 +249,7 @@ def solve(
             enabled,
             floor,
             step,
+            switches,
             records,
             own,
             out,
@@ -233,7 +260,7 @@ def solve(
             end,
         )
         if code != _OK:
-            raise _failure(planner, code, out, m, "")
+            raise _failure(planner, code, out, m, "", step)
         pieces = (breakpoints[: count + 1], coefficients[:, :count], end)
     return EngineResult(
         out[..., 0],
@@ -248,7 +275,9 @@ def solve(
     )
 
 
-def _failure(planner: str, code: int, out: FloatArray, m: FloatArray, where: str) -> Exception:
+def _failure(
+    planner: str, code: int, out: FloatArray, m: FloatArray, where: str, dt: float = 0.0
+) -> Exception:
     """The error for a failed problem, naming the joint and its numbers."""
     joint = int(out[3])
     names = ("q0", "qf", "v0", "vf", "a0", "af", "v_min", "v_max", "a_min", "a_max", "j_max")
@@ -265,14 +294,25 @@ def _failure(planner: str, code: int, out: FloatArray, m: FloatArray, where: str
         return InfeasibleError(
             f"{planner}: a joint with a zero limit cannot take the duration the others need{where}"
         )
+    if code == _GRID_FAILED:
+        return InfeasibleError(
+            f"{planner}: no profile with every phase in whole multiples of dt={dt:g} s keeps "
+            f"the limits within {_MAX_EXTRA_PERIODS} periods of the continuous optimum{where}; "
+            "pass grid='duration' to put only the duration on the grid"
+        )
+    if code == _VELOCITY_UNSUPPORTED:
+        return InfeasibleError(
+            f"{planner}: the velocity interface puts only the duration on the period "
+            f"grid{where}; pass grid='duration'"
+        )
     if code == _SYNC_FAILED:
         return InfeasibleError(
             f"{planner}: no common duration suits every synchronized joint{where}; "
             "leave some out of synchronization (sync=None for them)"
         )
-    step = "its fastest profile" if code == _STEP1_FAILED else "a profile of the common duration"
+    step = "fastest profile" if code == _STEP1_FAILED else "profile of the common duration"
     return InfeasibleError(
-        f"{planner}: no {step} was found for joint {joint + 1}{where} (a numerical failure "
+        f"{planner}: the engine found no {step} for joint {joint + 1}{where} (a numerical failure "
         f"of the engine; please report it with these numbers: {state(joint)})"
     )
 

@@ -33,6 +33,7 @@ from trajkit.trajectory import Trajectory
 __all__ = ["Problem", "read_problem", "read_sync", "solve", "to_trajectory"]
 
 SYNC_NAMES = ("time", "phase", "time_if_necessary", None)
+GRIDS = ("switches", "duration")
 
 
 @dataclass(frozen=True)
@@ -178,6 +179,14 @@ def _ndof_of(*values: object) -> int | None:
 _SYNC_CACHE: dict[tuple[object, int], tuple[np.ndarray, tuple[str | None, ...]]] = {}
 
 
+def _fill_rows(m: FloatArray, rows: list[object], ndof: int) -> None:
+    for k, value in enumerate(rows):
+        row = _fast_row(value, ndof) if type(value) is not np.ndarray or k not in (6, 8) else value
+        if row is None or (type(row) is np.ndarray and row.shape != (ndof,)):
+            raise ValueError("not plainly numbers")
+        m[k] = row
+
+
 def _read_fast(q0, qf, vmax, amax, jmax, v0, vf, a0, af, sync) -> Problem | None:
     """The problem, if every argument is plainly well formed and admissible; else None."""
     from trajkit.profiles._kernels.admissible import ROWS, admissible
@@ -195,14 +204,16 @@ def _read_fast(q0, qf, vmax, amax, jmax, v0, vf, a0, af, sync) -> Problem | None
             magnitude = _fast_row(spec, ndof)
             if magnitude is None:
                 return None
-            rows += [-np.asarray(magnitude, dtype=np.float64), magnitude]
+            try:
+                rows += [-np.asarray(magnitude, dtype=np.float64), magnitude]
+            except (OverflowError, TypeError, ValueError):
+                return None
     rows.append(jmax)
     m = np.empty((ROWS, ndof))
-    for k, value in enumerate(rows):
-        row = _fast_row(value, ndof) if type(value) is not np.ndarray or k not in (6, 8) else value
-        if row is None or (type(row) is np.ndarray and row.shape != (ndof,)):
-            return None
-        m[k] = row
+    try:
+        _fill_rows(m, rows, ndof)
+    except (OverflowError, TypeError, ValueError):
+        return None  # (a Python int beyond float64, ...) the validators explain
     if not engine.run("admissible", admissible, m):
         return None
     key = (sync, ndof)
@@ -286,8 +297,14 @@ def solve(
     duration: float | None = None,
     min_duration: float | None = None,
     dt: float | None = None,
+    grid: str = "switches",
 ) -> engine.EngineResult:
-    """Plan ``p``; ``duration`` exact (refused if impossible), ``min_duration`` a floor."""
+    """Plan ``p``; ``duration`` exact (refused if impossible), ``min_duration`` a floor.
+
+    With ``dt``, ``grid`` puts every switching time (``"switches"``) or only the
+    duration (``"duration"``) on the period grid.
+    """
+    grid = choice("grid", grid, GRIDS)
     if duration is not None and min_duration is not None:
         raise InvalidInputError("give duration (exact) or min_duration (a floor), not both")
     floor = None
@@ -302,7 +319,7 @@ def solve(
         # An exact duration is every joint's: none is left to move on its own.
         codes = np.where(codes == engine.SYNC_MODES[None], engine.SYNC_MODES["time"], codes)
     result = engine.solve(
-        planner, p.matrix, control=control, sync=codes, min_duration=floor, dt=step
+        planner, p.matrix, control=control, sync=codes, min_duration=floor, dt=step, grid=grid
     )
     total = float(result.duration)
     finite_result(planner, np.array([total]), {"duration": duration})

@@ -30,6 +30,7 @@ def scurve(
     min_duration: float | None = None,
     sync: object = "time",
     dt: float | None = None,
+    grid: str = "switches",
 ) -> Trajectory:
     """Time-optimal jerk-limited profile from ``(q0, v0, a0)`` to ``(qf, vf, af)``.
 
@@ -70,8 +71,15 @@ def scurve(
         as they can and wait. ``None``: every joint as fast as it can; early ones
         continue at their target velocity. A sequence gives one mode per joint.
     dt : float, optional
-        Controller period (s): the duration becomes a whole number of periods (every
-        synchronized joint re-planned to take it).
+        Controller period (s); see ``grid``. Every switch on the grid costs at most
+        3 periods over the continuous optimum rest to rest (measured worst: 2.27),
+        more for moving boundaries and brakes.
+    grid : {"switches", "duration"}
+        With ``dt``: ``"switches"`` puts every switching time (each phase a whole
+        number of periods) and the duration on the grid, re-timing the phases so
+        the target is still reached exactly within every limit; ``"duration"``
+        only the duration (ruckig's discrete durations: every synchronized joint
+        re-planned to take it).
 
     Returns
     -------
@@ -95,5 +103,7 @@ def scurve(
     problem = limited.read_problem(
         "scurve", q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync
     )
-    result = limited.solve("scurve", problem, duration=duration, min_duration=min_duration, dt=dt)
+    result = limited.solve(
+        "scurve", problem, duration=duration, min_duration=min_duration, dt=dt, grid=grid
+    )
     return limited.to_trajectory("scurve", problem, result, dt=dt)

@@ -37,6 +37,7 @@ def trapezoidal(
     vf: ArrayLike = 0.0,
     sync: object = "time",
     dt: float | None = None,
+    grid: str = "switches",
     allow_overshoot: bool = True,
 ) -> Trajectory:
     """Trapezoidal (or triangular) velocity profile: linear segments with parabolic blends.
@@ -84,8 +85,14 @@ def trapezoidal(
         early hold their end state (continuing at ``vf``). A sequence gives one
         mode per joint.
     dt : float, optional
-        Controller period (s): every switching time and the duration become whole
-        multiples of it, all limits still hold.
+        Controller period (s); see ``grid`` (at rest, every switch on the grid costs
+        at most 2 periods over the continuous optimum).
+    grid : {"switches", "duration"}
+        With ``dt``: ``"switches"`` puts every switching time (each phase a whole
+        number of periods) and the duration on the grid, re-timing the phases so
+        the target is still reached exactly within every limit; ``"duration"``
+        only the duration (ruckig's discrete durations: every synchronized joint
+        re-planned to take it).
     allow_overshoot : bool
         With ``False``, raise :class:`InfeasibleError` when the fastest profile
         leaves the interval between ``q0`` and ``qf`` (a boundary velocity that
@@ -119,7 +126,7 @@ def trapezoidal(
         "trapezoidal", q0, qf, vmax, amax, np.inf, v0=v0, vf=vf, a0=0.0, af=0.0, sync=sync
     )
     result = limited.solve(
-        "trapezoidal", problem, duration=duration, min_duration=min_duration, dt=dt
+        "trapezoidal", problem, duration=duration, min_duration=min_duration, dt=dt, grid=grid
     )
     trajectory = limited.to_trajectory("trapezoidal", problem, result, dt=dt, info=trapezoid_info)
     if not allow_overshoot:

@@ -28,18 +28,21 @@ of raising inside a compiled batch.
 
 import math
 
+import numpy as np
 from numba import njit
 
 from trajkit.profiles._kernels.jerk_fastest import calculate_block
 from trajkit.profiles._kernels.layout import (
     ACC0,
     AF,
+    BRAKE_DURATION,
     DIRECTION,
     DOWN,
     LIMITS,
     NONE,
     PF,
     SIGNS,
+    SIZE,
     T_SUM,
     UDDU,
     UP,
@@ -97,12 +100,200 @@ def _accept(valid, count, limits, a_up, a_down, v_max, v_min):
     return count
 
 
+# --------------------------------------------------------------------------- robustness
+#
+# The reference's closed forms are exact in exact arithmetic, but its acceptance
+# tolerances are absolute (1e-8 in position): a long coast at a low speed, or a
+# duration that dwarfs the ramps, lose the target to rounding (ruckig fails
+# there too). Where the reference's candidates all fail, the same profiles are
+# built again in units in which the problem's magnitudes are near 1 (powers of
+# two, so the change of units is exact), with stable root formulas, and each is
+# corrected by the position its record misses before it is checked. Accepted
+# reference profiles of a given duration get the same correction (their duration
+# is the prescribed one: only where the peak velocity sits moves, by rounding).
+
+
 @njit(cache=True, error_model="numpy")
-def _fastest_coast(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min):
+def _power_of_two(x):
+    """The power of two nearest ``x`` (1 for ``x`` zero, negative or not finite)."""
+    if not (x > 0.0) or not math.isfinite(x):
+        return 1.0
+    _, exponent = math.frexp(x)
+    return math.ldexp(1.0, max(-1000, min(1000, exponent - 1)))
+
+
+@njit(cache=True, error_model="numpy")
+def _scalable(x):
+    """Whether a limit stays a usable number in new units (zero and inf do)."""
+    return x == 0.0 or math.isinf(x) or 1e-300 < abs(x) < 1e300
+
+
+@njit(cache=True, error_model="numpy")
+def _units(duration, size, v_max, v_min, a_max, a_min):
+    """Units of time ``tau`` and length ``lam`` (powers of two) near a move's own.
+
+    ``(1, 1)`` where a limit would leave the range of normal numbers.
+    """
+    tau = _power_of_two(duration)
+    lam = _power_of_two(size)
+    v = tau / lam
+    a = v * tau
+    if not (
+        _scalable(v_max * v)
+        and _scalable(v_min * v)
+        and _scalable(a_max * a)
+        and _scalable(a_min * a)
+    ):
+        return 1.0, 1.0
+    return tau, lam
+
+
+@njit(cache=True, error_model="numpy")
+def _to_units(dst, src, tau, lam):
+    """``src``'s boundary in units ``tau``, ``lam``, starting at position 0; no brake."""
+    for k in range(SIZE):
+        dst[k] = 0.0
+    v = tau / lam
+    dst[V] = src[V] * v
+    dst[PF] = (src[PF] - src[P]) / lam
+    dst[VF] = src[VF] * v
+    dst[AF] = src[AF] * v * tau
+
+
+@njit(cache=True, error_model="numpy")
+def _from_units(dst, src, tau, lam):
+    """The phases of ``src`` (units ``tau``, ``lam``, from 0) into ``dst``'s units.
+
+    ``dst`` keeps its boundary and brake: the phases start at its ``p[0], v[0]``.
+    """
+    v = lam / tau
+    a = v / tau
+    for i in range(7):
+        dst[T + i] = src[T + i] * tau
+        dst[T_SUM + i] = src[T_SUM + i] * tau
+        dst[J + i] = 0.0
+        dst[A + i] = src[A + i] * a
+    for i in range(1, 8):
+        dst[V + i] = src[V + i] * v
+        dst[P + i] = dst[P] + src[P + i] * lam
+    dst[A + 7] = dst[AF]
+    dst[LIMITS] = src[LIMITS]
+    dst[SIGNS] = src[SIGNS]
+    dst[DIRECTION] = src[DIRECTION]
+
+
+@njit(cache=True, error_model="numpy")
+def _bounds_by_direction(up, v_max, v_min):
+    """Velocity limits in the order :func:`.profile.check_second_order` reads them.
+
+    Its direction is the sign of the first: ``(v_max, v_min)`` for a profile
+    that starts at ``a_max`` (when ``v_max > 0``), else ``(v_min, v_max)``.
+    """
+    if up and v_max > 0.0:
+        return v_max, v_min
+    return v_min, v_max
+
+
+@njit(cache=True, error_model="numpy")
+def _miss(prof, limits, a_up, a_down, v_max, v_min):
+    """Integrate the record (by the check) and return the position it misses.
+
+    NaN where a phase duration is negative (the record is then not integrated).
+    """
+    for i in range(7):
+        if not prof[T + i] >= 0.0:
+            return math.nan
+    check_second_order(prof, UDDU, limits, a_up, a_down, v_max, v_min)
+    return prof[PF] - prof[P + 7]
+
+
+@njit(cache=True, error_model="numpy")
+def _polish_coast(prof, a_up, a_down, v_max, v_min):
+    """Correct the coast (phase 1) of a ramp-coast-ramp record by the missed position."""
+    r = _miss(prof, ACC0, a_up, a_down, v_max, v_min)
+    for _ in range(3):
+        v_coast = prof[V + 1]
+        if r == 0.0 or not math.isfinite(r) or v_coast == 0.0:
+            return
+        old = prof[T + 1]
+        t_coast = old + r / v_coast
+        if not t_coast >= 0.0:
+            return
+        prof[T + 1] = t_coast
+        r_new = _miss(prof, ACC0, a_up, a_down, v_max, v_min)
+        if not abs(r_new) < abs(r):
+            prof[T + 1] = old
+            _miss(prof, ACC0, a_up, a_down, v_max, v_min)
+            return
+        r = r_new
+
+
+@njit(cache=True, error_model="numpy")
+def _polish_ramps(prof, tf, a_up, a_down, limits, v_max, v_min):
+    """Correct the peak velocity of a ramp(-coast)-ramp record by the missed position.
+
+    The first ramp is phase 0 (at ``a_up``), the last phase 2 (at ``a_down``) or,
+    ramping on in the same direction, phase 6 (at ``a_up``). With a duration
+    ``tf`` the coast takes what the ramps leave and the position moves by the
+    coast duration per unit of peak velocity; without (``tf = inf``) there is no
+    coast and it moves by ``v_peak (1/a1 - 1/a3)``. Newton steps, kept while they
+    reduce the miss.
+    """
+    last = 6 if prof[T + 6] > 0.0 else 2
+    a1 = a_up
+    a3 = a_up if last == 6 else a_down
+    v0 = prof[V]
+    vf = prof[VF]
+    r = _miss(prof, limits, a_up, a_down, v_max, v_min)
+    for _ in range(3):
+        if r == 0.0 or not math.isfinite(r):
+            return
+        t0 = prof[T]
+        t1 = prof[T + 1]
+        t3 = prof[T + last]
+        v_peak = v0 + a1 * t0
+        slope = t1 if math.isfinite(tf) else v_peak * (1.0 / a1 - 1.0 / a3)
+        if not abs(slope) > 0.0:
+            return
+        v_peak += r / slope
+        n0 = (v_peak - v0) / a1
+        n3 = (vf - v_peak) / a3
+        n1 = tf - n0 - n3 if math.isfinite(tf) else 0.0
+        if not (n0 >= 0.0 and n3 >= 0.0 and n1 >= 0.0):
+            return
+        prof[T] = n0
+        prof[T + 1] = n1
+        prof[T + last] = n3
+        r_new = _miss(prof, limits, a_up, a_down, v_max, v_min)
+        if not abs(r_new) < abs(r):
+            prof[T] = t0
+            prof[T + 1] = t1
+            prof[T + last] = t3
+            _miss(prof, limits, a_up, a_down, v_max, v_min)
+            return
+        r = r_new
+
+
+@njit(cache=True, error_model="numpy")
+def _refine_timed(prof, tf, a_up, a_down, limits, v_max, v_min):
+    """:func:`_polish_ramps` on an accepted profile, which stays accepted."""
+    t0 = prof[T]
+    t1 = prof[T + 1]
+    t2 = prof[T + 2]
+    t6 = prof[T + 6]
+    _polish_ramps(prof, tf, a_up, a_down, limits, v_max, v_min)
+    if not check_second_order(prof, UDDU, limits, a_up, a_down, v_max, v_min):
+        _set_times(prof, t0, t1, t2, t6)
+        check_second_order(prof, UDDU, limits, a_up, a_down, v_max, v_min)
+
+
+@njit(cache=True, error_model="numpy")
+def _fastest_coast(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, polish):
     """Accelerate to the velocity limit ``v_max``, coast, brake to ``vf``.
 
     The ramps take ``(v_max - v0)/a_max`` and ``(vf - v_max)/a_min``; the coast
-    covers what the ramps leave of ``pd`` at ``v_max``.
+    covers what the ramps leave of ``pd`` at ``v_max``. With ``polish`` (the
+    fallback) the coast is corrected by the position the record misses.
     """
     if count >= valid.shape[0]:
         return count
@@ -114,17 +305,21 @@ def _fastest_coast(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min):
         + pd / v_max
     )
     _set_times(valid[count], (v_max - v0) / a_max, t_coast, (vf - v_max) / a_min, 0.0)
+    if polish:
+        _polish_coast(valid[count], a_max, a_min, v_max, v_min)
     return _accept(valid, count, ACC0, a_max, a_min, v_max, v_min)
 
 
 @njit(cache=True, error_model="numpy")
-def _fastest_peak(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, first_only):
+def _fastest_peak(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, first_only, polish):
     """Accelerate at ``a_max`` to a peak velocity and at once ``a_min`` to ``vf``.
 
     Both ramps together cover ``pd``, which fixes the peak velocity's square:
     ``v_peak^2 = (a_max vf^2 - a_min v0^2 - 2 a_max a_min pd) / (a_max - a_min)``.
     Both signs of ``v_peak`` are candidates (the negative one overshoots
-    backwards first); with ``first_only`` the search stops at the first.
+    backwards first); with ``first_only`` the search stops at the first. With
+    ``polish`` (the fallback) the peak is corrected by the position the record
+    misses.
     """
     square = (a_max * vf * vf - a_min * v0 * v0 - 2.0 * a_max * a_min * pd) / (a_max - a_min)
     if not square >= 0.0:
@@ -134,7 +329,16 @@ def _fastest_peak(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, first_on
         if count >= valid.shape[0]:
             return count
         v_peak = sign * peak
+        if polish:
+            # A peak within rounding of a boundary velocity is that velocity: its
+            # ramp is empty, not a rounding's worth of the wrong sign.
+            if abs(v_peak - v0) <= 4.0 * EPS * max(abs(v_peak), abs(v0)):
+                v_peak = v0
+            elif abs(v_peak - vf) <= 4.0 * EPS * max(abs(v_peak), abs(vf)):
+                v_peak = vf
         _set_times(valid[count], (v_peak - v0) / a_max, 0.0, (vf - v_peak) / a_min, 0.0)
+        if polish:
+            _polish_ramps(valid[count], math.inf, a_max, a_min, NONE, v_max, v_min)
         before = count
         count = _accept(valid, count, NONE, a_max, a_min, v_max, v_min)
         if first_only and count > before:
@@ -143,7 +347,7 @@ def _fastest_peak(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, first_on
 
 
 @njit(cache=True, error_model="numpy")
-def fastest_candidates(prof, v_max, v_min, a_max, a_min, valid):
+def fastest_candidates(prof, v_max, v_min, a_max, a_min, valid, polish=False):
     """All extremal acceleration-limited profiles; returns their number.
 
     Parameters
@@ -155,6 +359,9 @@ def fastest_candidates(prof, v_max, v_min, a_max, a_min, valid):
     valid : ndarray
         Scratch ``(n, SIZE)`` with ``n >= 3``; the accepted profiles fill its first
         rows in the reference's order.
+    polish : bool
+        Correct each candidate by the position its record misses (the fallback;
+        the reference's candidates are taken as they are).
 
     Returns
     -------
@@ -173,20 +380,20 @@ def fastest_candidates(prof, v_max, v_min, a_max, a_min, valid):
             hi_v, lo_v, hi_a, lo_a = v_max, v_min, a_max, a_min
         else:
             hi_v, lo_v, hi_a, lo_a = v_min, v_max, a_min, a_max
-        count = _fastest_peak(valid, 0, pd, v0, vf, hi_v, lo_v, hi_a, lo_a, True)
+        count = _fastest_peak(valid, 0, pd, v0, vf, hi_v, lo_v, hi_a, lo_a, True, polish)
         if count == 0:
-            count = _fastest_coast(valid, 0, pd, v0, vf, hi_v, lo_v, hi_a, lo_a)
+            count = _fastest_coast(valid, 0, pd, v0, vf, hi_v, lo_v, hi_a, lo_a, polish)
         if count == 0:
-            count = _fastest_peak(valid, 0, pd, v0, vf, lo_v, hi_v, lo_a, hi_a, True)
+            count = _fastest_peak(valid, 0, pd, v0, vf, lo_v, hi_v, lo_a, hi_a, True, polish)
         if count == 0:
-            count = _fastest_coast(valid, 0, pd, v0, vf, lo_v, hi_v, lo_a, hi_a)
+            count = _fastest_coast(valid, 0, pd, v0, vf, lo_v, hi_v, lo_a, hi_a, polish)
         return count
     # A moving target can make an interval of durations unreachable: every
     # extremal profile is needed to find it.
-    count = _fastest_peak(valid, 0, pd, v0, vf, v_max, v_min, a_max, a_min, False)
-    count = _fastest_peak(valid, count, pd, v0, vf, v_min, v_max, a_min, a_max, False)
-    count = _fastest_coast(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min)
-    return _fastest_coast(valid, count, pd, v0, vf, v_min, v_max, a_min, a_max)
+    count = _fastest_peak(valid, 0, pd, v0, vf, v_max, v_min, a_max, a_min, False, polish)
+    count = _fastest_peak(valid, count, pd, v0, vf, v_min, v_max, a_min, a_max, False, polish)
+    count = _fastest_coast(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, polish)
+    return _fastest_coast(valid, count, pd, v0, vf, v_min, v_max, a_min, a_max, polish)
 
 
 @njit(cache=True, error_model="numpy")
@@ -247,7 +454,56 @@ def fastest(prof, v_max, v_min, a_max, a_min, valid, block, block_times):
     if v_max == 0.0 and v_min == 0.0:
         return _zero_velocity_limits(prof, v_max, v_min, block, block_times)
     count = fastest_candidates(prof, v_max, v_min, a_max, a_min, valid)
-    return calculate_block(valid, count, block, block_times)
+    if calculate_block(valid, count, block, block_times):
+        return True
+    return _fastest_fallback(prof, v_max, v_min, a_max, a_min, valid, block, block_times)
+
+
+@njit(cache=True, error_model="numpy")
+def _fastest_fallback(prof, v_max, v_min, a_max, a_min, valid, block, block_times):
+    """The reference's candidates again, in the move's own units and polished.
+
+    Units: the longest of the times the move needs to cover its distance at the
+    speed limit, at the acceleration limit, and to change its velocity; lengths
+    the distance or the velocities over that time (a long coast back at a low
+    speed limit covers no more than the braking did, within those).
+    """
+    pd = prof[PF] - prof[P]
+    v0 = prof[V]
+    vf = prof[VF]
+    distance = abs(pd)
+    speed = min(v_max, -v_min)
+    push = min(a_max, -a_min)
+    change = max(abs(v0), abs(vf), abs(vf - v0))
+    estimate = 0.0
+    if speed > 0.0:
+        estimate = distance / speed
+    if push > 0.0:
+        estimate = max(estimate, math.sqrt(distance / push), change / push)
+    tau = _power_of_two(estimate)
+    tau, lam = _units(
+        estimate,
+        max(distance, abs(v0) * tau, abs(vf) * tau),
+        v_max,
+        v_min,
+        a_max,
+        a_min,
+    )
+    v = tau / lam
+    a = v * tau
+    work = np.empty(SIZE)
+    _to_units(work, prof, tau, lam)
+    count = fastest_candidates(work, v_max * v, v_min * v, a_max * a, a_min * a, valid, True)
+    if not calculate_block(valid, count, block, block_times):
+        return False
+    brake = prof[BRAKE_DURATION]
+    for k in range(3):
+        work[:] = block[k]
+        copy_boundary(block[k], prof)
+        _from_units(block[k], work, tau, lam)
+    for k in range(5):
+        block_times[k] = block_times[k] * tau + brake
+    return True
 
 
 @njit(cache=True, error_model="numpy")
@@ -270,6 +526,7 @@ def _timed_coast(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min):
         t_up = (a_max * vd - a_max * a_min * (tf - t_coast)) / (a_max * (a_max - a_min))
         _set_times(prof, t_up, t_coast, tf - (t_up + t_coast), 0.0)
         if check_second_order(prof, UDDU, ACC0, a_max, a_min, v_max, v_min):
+            _refine_timed(prof, tf, a_max, a_min, ACC0, v_max, v_min)
             return True
     # Up-coast-up: the ramps share vd/a_max, the coast takes the rest of tf,
     # and the position is linear in how the ramps split.
@@ -278,6 +535,7 @@ def _timed_coast(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min):
     t_coast = tf - vd / a_max
     _set_times(prof, t_up, t_coast, 0.0, tf - (t_up + t_coast))
     if check_second_order(prof, UDDU, ACC0, a_max, a_min, v_max, v_min):
+        _refine_timed(prof, tf, a_max, a_min, ACC0, v_max, v_min)
         return True
     # Coast at v0, then the whole velocity change at a_max.
     _set_times(prof, 0.0, tf - vd / a_max, 0.0, vd / a_max)
@@ -352,9 +610,141 @@ def timed(prof, tf, v_max, v_min, a_max, a_min):
         found = _timed_all(prof, tf, pd, v0, vf, v_min, v_max, a_min, a_max) or _timed_all(
             prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min
         )
+    if not found:
+        found = _timed_fallback(prof, tf, v_max, v_min, a_max, a_min)
     if found:
         prof[PF] = prof[P + 7]
     return found
+
+
+@njit(cache=True, error_model="numpy")
+def _try_ramps(row, tf, v_peak, a1, a3, v_max, v_min, a_max, a_min):
+    """Accept ``row`` as ramp at ``a1`` to ``v_peak``, coast, ramp at ``a3``, in ``tf``.
+
+    Ramp durations within rounding of zero (8 ulp of ``tf``) count as empty.
+    """
+    slack = 8.0 * EPS * tf
+    t1 = (v_peak - row[V]) / a1
+    t3 = (row[VF] - v_peak) / a3
+    if not (t1 >= -slack and t3 >= -slack):
+        return False
+    t1 = max(t1, 0.0)
+    t3 = max(t3, 0.0)
+    t2 = tf - t1 - t3
+    if not t2 >= -slack:
+        return False
+    t2 = max(t2, 0.0)
+    if a1 == a3:
+        a_up = a1
+        a_down = a_min if a1 == a_max else a_max
+        _set_times(row, t1, t2, 0.0, t3)
+    else:
+        a_up = a1
+        a_down = a3
+        _set_times(row, t1, t2, t3, 0.0)
+    hi, lo = _bounds_by_direction(a_up == a_max, v_max, v_min)
+    _polish_ramps(row, tf, a_up, a_down, ACC0, hi, lo)
+    return check_second_order(row, UDDU, ACC0, a_up, a_down, hi, lo)
+
+
+@njit(cache=True, error_model="numpy")
+def _try_free(row, tf, t_ramp, first, v_max, v_min, a_max, a_min):
+    """Accept ``row`` as one ramp of ``t_ramp`` at a free acceleration and a coast.
+
+    The ramp comes ``first`` (then the coast is at ``vf``) or last (the coast at
+    ``v0``); its acceleration must lie within the limits.
+    """
+    vd = row[VF] - row[V]
+    if not (0.0 < t_ramp <= tf) or vd == 0.0:
+        return False
+    a_ramp = vd / t_ramp
+    if not (a_min - 1e-12 * abs(a_min) <= a_ramp <= a_max + 1e-12 * a_max):
+        return False
+    a_ramp = min(max(a_ramp, a_min), a_max)
+    if first:
+        _set_times(row, t_ramp, tf - t_ramp, 0.0, 0.0)
+    else:
+        _set_times(row, 0.0, tf - t_ramp, 0.0, t_ramp)
+    hi, lo = _bounds_by_direction(a_ramp > 0.0, v_max, v_min)
+    return check_second_order(row, UDDU, NONE, a_ramp, -a_ramp, hi, lo)
+
+
+@njit(cache=True, error_model="numpy")
+def _keep_gentlest(best, row, speed, best_speed):
+    """Copy ``row`` into ``best`` if its coast is slower; return the best speed."""
+    if speed < best_speed:
+        best[:] = row
+        return speed
+    return best_speed
+
+
+@njit(cache=True, error_model="numpy")
+def _timed_fallback(prof, tf, v_max, v_min, a_max, a_min):
+    """A profile of duration ``tf`` by stable closed forms in the move's own units.
+
+    For each pair of ramp accelerations at the limits the peak velocity solves
+    ``c2 u^2 + c1 u + c0 = 0`` (``c2 = 1/(2 a1) - 1/(2 a3)``, ``c1 = vf/a3 - v0/a1 - tf``,
+    ``c0 = pd + v0^2/(2 a1) - vf^2/(2 a3)``; roots without cancellation), each root
+    polished; a standstill between the ramps (``u = 0``) and one ramp at a free
+    acceleration next to a coast at ``v0`` or ``vf`` complete the shapes. Of the
+    valid profiles the gentlest (slowest coast) is kept, as the numpy engine did.
+    """
+    pd = prof[PF] - prof[P]
+    v0 = prof[V]
+    vf = prof[VF]
+    tau, lam = _units(tf, max(abs(pd), abs(v0) * tf, abs(vf) * tf), v_max, v_min, a_max, a_min)
+    v = tau / lam
+    a = v * tau
+    vu, vl, au, al = v_max * v, v_min * v, a_max * a, a_min * a
+    t = tf / tau
+    work = np.empty(SIZE)
+    _to_units(work, prof, tau, lam)
+    row = work.copy()
+    best = work.copy()
+    best_speed = math.inf
+    pd = work[PF]
+    v0 = work[V]
+    vf = work[VF]
+    for k in range(4):
+        a1 = au if k == 0 or k == 2 else al
+        a3 = al if k == 0 or k == 3 else au
+        c2 = 0.5 / a1 - 0.5 / a3
+        c1 = vf / a3 - v0 / a1 - t
+        c0 = pd + v0 * v0 / (2.0 * a1) - vf * vf / (2.0 * a3)
+        roots = (math.nan, math.nan)
+        if c2 == 0.0:
+            roots = (-c0 / c1, math.nan)
+        else:
+            disc = c1 * c1 - 4.0 * c2 * c0
+            if disc < 0.0 and disc > -1e-14 * c1 * c1:
+                disc = 0.0  # a double root lost to rounding
+            if disc >= 0.0:
+                q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
+                roots = (q / c2, c0 / q)
+        for u in roots:
+            if not math.isfinite(u):
+                continue
+            row[:] = work
+            if _try_ramps(row, t, u, a1, a3, vu, vl, au, al):
+                best_speed = _keep_gentlest(best, row, abs(row[V + 1]), best_speed)
+    # Stop, stand still, start again.
+    row[:] = work
+    a1 = al if v0 > 0.0 else au
+    a3 = au if vf > 0.0 else al
+    if _try_ramps(row, t, 0.0, a1, a3, vu, vl, au, al):
+        best_speed = _keep_gentlest(best, row, 0.0, best_speed)
+    vd = vf - v0
+    if vd != 0.0:
+        row[:] = work
+        if _try_free(row, t, 2.0 * (vf * t - pd) / vd, True, vu, vl, au, al):
+            best_speed = _keep_gentlest(best, row, abs(vf), best_speed)
+        row[:] = work
+        if _try_free(row, t, 2.0 * (pd - v0 * t) / vd, False, vu, vl, au, al):
+            best_speed = _keep_gentlest(best, row, abs(v0), best_speed)
+    if math.isinf(best_speed):
+        return False
+    _from_units(prof, best, tau, lam)
+    return True
 
 
 @njit(cache=True, error_model="numpy")

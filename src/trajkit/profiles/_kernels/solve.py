@@ -8,9 +8,16 @@ table (:mod:`.tables`), and for one problem build the piecewise cubic.
 import numpy as np
 from numba import njit, prange
 
-from trajkit.profiles._kernels import synchronize, tables
+from trajkit.profiles._kernels import profile, quantize, synchronize, tables
 from trajkit.profiles._kernels.admissible import J_MAX
-from trajkit.profiles._kernels.layout import SIZE
+from trajkit.profiles._kernels.layout import BRAKE_DURATION, SIZE, T_SUM
+
+
+@njit(cache=True, error_model="numpy")
+def _plan(m, control, sync, enabled, min_duration, dt, switches, records, own, out):
+    if switches and dt > 0.0:
+        return quantize.plan_on_grid(m, control, sync, enabled, min_duration, dt, records, own, out)
+    return synchronize.plan(m, control, sync, enabled, min_duration, dt, records, own, out)
 
 
 @njit(cache=True, error_model="numpy")
@@ -21,6 +28,7 @@ def one(
     enabled,
     min_duration,
     dt,
+    switches,
     records,
     own,
     out,
@@ -32,10 +40,12 @@ def one(
 ):
     """Plan one problem and build its pieces; returns ``(status, number of pieces)``.
 
-    Arguments as :func:`synchronize.plan`, plus the phase tables ``t``, ``u``
-    (ndof, 9) and the piece arrays of :func:`tables.pieces` to fill.
+    Arguments as :func:`synchronize.plan`, plus ``switches`` (with ``dt > 0``:
+    every switching time on the period grid, :func:`quantize.plan_on_grid`; else
+    only the duration), the phase tables ``t``, ``u`` (ndof, 9) and the piece
+    arrays of :func:`tables.pieces` to fill.
     """
-    status = synchronize.plan(m, control, sync, enabled, min_duration, dt, records, own, out)
+    status = _plan(m, control, sync, enabled, min_duration, dt, switches, records, own, out)
     if status != synchronize.OK:
         return status, 0
     ndof = m.shape[1]
@@ -59,15 +69,51 @@ def one(
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def batch(m, control, sync, enabled, min_duration, dt, t, u, own, out, status):
+def batch(m, control, sync, enabled, min_duration, dt, switches, t, u, own, out, status):
     """Plan ``B`` problems in parallel into phase tables ``t``, ``u`` (B, ndof, 9)."""
     count = m.shape[0]
     ndof = m.shape[2]
     for i in prange(count):
         records = np.empty((ndof, SIZE))
-        status[i] = synchronize.plan(
-            m[i], control[i], sync[i], enabled[i], min_duration[i], dt, records, own[i], out[i]
+        status[i] = _plan(
+            m[i],
+            control[i],
+            sync[i],
+            enabled[i],
+            min_duration[i],
+            dt,
+            switches,
+            records,
+            own[i],
+            out[i],
         )
         if status[i] == synchronize.OK:
             for d in range(ndof):
                 tables.compact(records[d], np.isinf(m[i, J_MAX, d]), t[i, d], u[i, d])
+
+
+@njit(cache=True, error_model="numpy")
+def online_step(m, control, sync, enabled, period, records, own, out, state):
+    """Plan one problem and write its state one ``period`` later into ``state`` (3, ndof).
+
+    Returns the status; where the motion ends within the period the state is the
+    target itself.
+    """
+    status = synchronize.plan(m, control, sync, enabled, np.nan, 0.0, records, own, out)
+    if status != synchronize.OK:
+        return status
+    ndof = m.shape[1]
+    finished = out[synchronize.OUT_DURATION] <= period
+    for d in range(ndof):
+        if finished:
+            state[0, d] = m[1, d]
+            state[1, d] = m[3, d]
+            state[2, d] = m[5, d]
+            continue
+        p, v, a, _ = profile.state_at(records[d], period)
+        if np.isinf(m[J_MAX, d]) and period >= records[d, T_SUM + 6] + records[d, BRAKE_DURATION]:
+            a = 0.0  # past a trapezoid's end it coasts
+        state[0, d] = p
+        state[1, d] = v
+        state[2, d] = a
+    return status

@@ -266,27 +266,34 @@ def _step1(
     block,
     block_times,
 ):
-    """Brake, then the fastest profile and blocked intervals of one joint (any scale)."""
+    """Brake, then the fastest profile and blocked intervals of one joint (any scale).
+
+    The laws are tried as given first (so ordinary problems are planned as the
+    reference plans them); where they fail, again in units that make the problem
+    ordinary (:func:`_units`).
+    """
+    if _step1_raw(
+        prof,
+        p0,
+        v0,
+        a0,
+        pf,
+        vf,
+        af,
+        v_max,
+        v_min,
+        a_max,
+        a_min,
+        j_max,
+        control,
+        valid,
+        block,
+        block_times,
+    ):
+        return True
     tau, lam = _units(pf - p0, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max)
     if tau == 1.0 and lam == 1.0:
-        return _step1_raw(
-            prof,
-            p0,
-            v0,
-            a0,
-            pf,
-            vf,
-            af,
-            v_max,
-            v_min,
-            a_max,
-            a_min,
-            j_max,
-            control,
-            valid,
-            block,
-            block_times,
-        )
+        return False
     v = tau / lam
     a = v * tau
     j = j_max * a * tau if math.isfinite(j_max) else j_max
@@ -318,7 +325,14 @@ def _step1(
 
 @njit(cache=True, error_model="numpy")
 def _step2(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
-    """Re-plan one joint (its boundary and brake already in ``prof``) to take ``tf``."""
+    """Re-plan one joint (its boundary and brake already in ``prof``) to take ``tf``.
+
+    As given first, then in ordinary units (see :func:`_step1`).
+    """
+    original = prof.copy()
+    if _step2_raw(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
+        return True
+    prof[:] = original
     p0 = prof[P]
     tau, lam = _units(
         prof[PF] - p0,
@@ -333,7 +347,7 @@ def _step2(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
         j_max,
     )
     if tau == 1.0 and lam == 1.0:
-        return _step2_raw(prof, tf, v_max, v_min, a_max, a_min, j_max, control)
+        return False
     origin = prof[BRAKE_P] if prof[BRAKE_DURATION] > 0.0 else p0
     _rescale(prof, 1.0 / tau, 1.0 / lam, origin, 0.0)
     v = tau / lam
@@ -341,6 +355,8 @@ def _step2(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
     j = j_max * a * tau if math.isfinite(j_max) else j_max
     found = _step2_raw(prof, tf / tau, v_max * v, v_min * v, a_max * a, a_min * a, j, control)
     _rescale(prof, tau, lam, 0.0, origin)
+    if not found:
+        prof[:] = original
     return found
 
 

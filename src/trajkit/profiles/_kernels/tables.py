@@ -188,8 +188,10 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
             scale += abs(value)
             if order == 2 and second[d]:
                 value = math.nan  # a trapezoid's acceleration jumps: no exact value
-            elif order == 0 and finish[d] < duration and target[1, d] != 0.0:
-                value = math.nan  # still coasting at its target velocity
+            elif order == 0 and abs(target[1, d] * (duration - finish[d])) > (
+                BOUNDARY_RTOL * scale + BOUNDARY_ATOL
+            ):
+                value = math.nan  # still coasting at its target velocity, elsewhere
             if abs(value - values[order]) > BOUNDARY_RTOL * scale + BOUNDARY_ATOL:
                 value = math.nan
             end[order, d] = value

@@ -1,0 +1,160 @@
+"""Online trajectory generation: re-plan from the current state every control cycle.
+
+A :class:`Generator` is what a control loop calls once per period: it plans the
+time-optimal jerk-limited (or acceleration-limited) motion from the current state
+to the target, as :func:`trajkit.scurve` would, and returns the state one period
+later. The target may change between calls (jogging, a moving goal); the motion
+stays within the limits and continuous in acceleration because each cycle starts
+from the state the previous one reached.
+
+Examples
+--------
+A jog whose target moves for a while, then holds:
+
+>>> import trajkit as tk
+>>> gen = tk.online.Generator(2, dt=0.01, vmax=1.0, amax=2.0, jmax=10.0)
+>>> state = gen.state  # at rest at 0
+>>> for k in range(400):
+...     target = [min(0.005 * k, 1.0), -0.5]
+...     state, reached = gen.update(target)
+>>> reached, [round(float(x), 9) for x in state.position]
+(True, [1.0, -0.5])
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import FloatArray, joint_vector, positive_scalar
+from trajkit.errors import InvalidInputError
+from trajkit.limits import LimitSpec
+from trajkit.profiles import engine, limited
+
+__all__ = ["Generator", "OnlineState"]
+
+
+class OnlineState(NamedTuple):
+    """Position, velocity and acceleration of every joint (views; copy to keep them)."""
+
+    position: FloatArray
+    velocity: FloatArray
+    acceleration: FloatArray
+
+
+class Generator:
+    """Plans every cycle from the current state to the target; returns the next state.
+
+    Parameters
+    ----------
+    ndof : int
+        Number of joints.
+    dt : float
+        Control period (s).
+    vmax, amax : float, sequence or tuple
+        Velocity (rad/s) and acceleration (rad/s^2) limits, symmetric or
+        ``(lower, upper)``.
+    jmax : float or sequence
+        Jerk limit (rad/s^3); ``inf`` for acceleration-limited motion.
+    position, velocity, acceleration : array_like, optional
+        The start state (default: at rest at 0).
+    sync : str or None
+        Synchronization, as in :func:`trajkit.scurve`.
+
+    Notes
+    -----
+    Each :meth:`update` runs one compiled call (plan and evaluate); no
+    :class:`~trajkit.Trajectory` is built. The start state may be beyond the
+    limits (it is braked back), the target must be within them.
+    """
+
+    def __init__(
+        self,
+        ndof: int,
+        dt: float,
+        vmax: LimitSpec,
+        amax: LimitSpec,
+        jmax: ArrayLike,
+        *,
+        position: ArrayLike = 0.0,
+        velocity: ArrayLike = 0.0,
+        acceleration: ArrayLike = 0.0,
+        sync: object = "time",
+    ) -> None:
+        if isinstance(ndof, bool) or not isinstance(ndof, int | np.integer) or ndof < 1:
+            raise InvalidInputError(f"ndof must be a positive integer, got {ndof!r}")
+        self.ndof = int(ndof)
+        self.dt = positive_scalar("dt", dt, unit="s")
+        # Validate once with a target at the start: limits, sync and the start state.
+        start = joint_vector("position", position, self.ndof, unit="rad")
+        problem = limited.read_problem(
+            "online", start, start, vmax, amax, jmax, v0=velocity, vf=0.0, a0=acceleration,
+            af=0.0, sync=sync,
+        )  # fmt: skip
+        self._m = np.ascontiguousarray(problem.matrix.copy())
+        self._sync = problem.sync
+        self._control = np.zeros(self.ndof, np.int64)
+        self._enabled = np.ones(self.ndof, np.int64)
+        from trajkit.profiles._kernels.layout import SIZE
+
+        self._records = np.empty((self.ndof, SIZE))
+        self._own = np.empty(self.ndof)
+        self._out = np.empty(4)
+        self._next = np.empty((3, self.ndof))
+        # Acceleration-limited joints carry no acceleration state into the next plan
+        # (theirs jumps): the reported acceleration is kept apart.
+        self._second = np.isinf(self._m[10])
+        self._acceleration = self._m[4].copy()
+        self._state = OnlineState(self._m[0], self._m[2], self._acceleration)
+        self.duration = 0.0  # of the last plan (s)
+
+    @property
+    def state(self) -> OnlineState:
+        """The current state (the one the next :meth:`update` starts from)."""
+        return self._state
+
+    def update(
+        self, target: ArrayLike, velocity: ArrayLike = 0.0, acceleration: ArrayLike = 0.0
+    ) -> tuple[OnlineState, bool]:
+        """Plan to ``target`` (with target velocity and acceleration) and step one period.
+
+        Returns the new current state and whether it is the target state.
+        """
+        m = self._m
+        try:
+            m[1] = target
+            m[3] = velocity
+            m[5] = acceleration
+        except (TypeError, ValueError):
+            # Not plain numbers: the validators name the argument.
+            m[1] = joint_vector("target", target, self.ndof, unit="rad")
+            m[3] = joint_vector("velocity", velocity, self.ndof, unit="rad/s")
+            m[5] = joint_vector("acceleration", acceleration, self.ndof, unit="rad/s^2")
+        from trajkit.profiles._kernels.admissible import admissible
+
+        if not engine.run("admissible", admissible, m):
+            self._explain()
+        from trajkit.profiles._kernels import solve
+
+        code = engine.run(
+            "online_step", solve.online_step, m, self._control, self._sync, self._enabled,
+            self.dt, self._records, self._own, self._out, self._next,
+        )  # fmt: skip
+        if code != engine._OK:
+            raise engine._failure("online", code, self._out, m, "")
+        self.duration = float(self._out[0])
+        m[0] = self._next[0]
+        m[2] = self._next[1]
+        self._acceleration[:] = self._next[2]
+        m[4] = np.where(self._second, 0.0, self._next[2])
+        return self._state, self.duration <= self.dt
+
+    def _explain(self) -> None:
+        m = self._m
+        limited.read_problem(
+            "online", m[0], m[1], (m[6], m[7]), (m[8], m[9]), m[10], v0=m[2], vf=m[3],
+            a0=m[4], af=m[5], sync="time",
+        )  # fmt: skip
+        raise InvalidInputError(f"online: target {m[1].tolist()} is not admissible")

@@ -1,0 +1,97 @@
+"""The online generator: one re-plan per control cycle, the target free to move.
+
+Tolerances: a step equals the offline plan's state to 1e-12 (same kernels, same
+arithmetic); limits hold to 1e-9 relative.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import trajkit as tk
+
+V, A, J = np.array([1.0, 2.0]), np.array([2.0, 3.0]), np.array([10.0, 20.0])
+
+
+def test_one_step_is_the_offline_plan_one_period_in():
+    gen = tk.online.Generator(2, 0.01, V, A, J, position=[0.1, -0.2], velocity=[0.3, 0.0])
+    state, reached = gen.update([1.0, 0.5], velocity=[0.0, 0.2])
+    plan = tk.scurve([0.1, -0.2], [1.0, 0.5], V, A, J, v0=[0.3, 0.0], vf=[0.0, 0.2])
+    assert not reached
+    np.testing.assert_allclose(state.position, plan.position(0.01), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(state.velocity, plan.velocity(0.01), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(state.acceleration, plan.acceleration(0.01), rtol=1e-12, atol=1e-15)
+    assert gen.duration == pytest.approx(plan.duration, rel=1e-12)
+
+
+def test_a_jog_to_a_moving_target_keeps_the_limits_and_arrives():
+    dt = 0.005
+    gen = tk.online.Generator(2, dt, V, A, J)
+    previous = np.zeros(2)
+    for k in range(3000):
+        target = [np.clip(0.004 * k, 0.0, 2.0), 0.8 * np.sin(0.01 * k) if k < 800 else -0.3]
+        state, reached = gen.update(target)
+        assert np.all(np.abs(state.velocity) <= V * (1 + 1e-9))
+        assert np.all(np.abs(state.acceleration) <= A * (1 + 1e-9))
+        # Jerk-limited from cycle to cycle: the acceleration changes by at most J dt.
+        assert np.all(np.abs(state.acceleration - previous) <= J * dt * (1 + 1e-9))
+        previous = state.acceleration.copy()
+        if reached and k > 800:
+            break
+    assert reached
+    np.testing.assert_allclose(state.position, [2.0, -0.3], atol=1e-12)
+    np.testing.assert_array_equal(state.velocity, [0.0, 0.0])
+
+
+def test_a_start_beyond_the_limits_is_braked():
+    gen = tk.online.Generator(1, 0.01, 1.0, 1.0, 5.0, velocity=1.5)
+    speeds = []
+    for _ in range(2000):
+        state, reached = gen.update([0.0])
+        speeds.append(float(state.velocity[0]))
+        if reached:
+            break
+    assert reached
+    assert speeds[0] < 1.5  # braking from the first cycle
+    assert max(abs(s) for s in speeds[200:]) <= 1.0 + 1e-9
+
+
+def test_acceleration_limited_generator_reaches_the_target():
+    gen = tk.online.Generator(1, 0.01, 1.0, 1.0, np.inf)
+    for _ in range(1000):
+        state, reached = gen.update([1.0])
+        if reached:
+            break
+    assert reached
+    assert state.position[0] == 1.0
+
+
+@pytest.mark.parametrize(
+    ("target", "error", "message"),
+    [
+        ([float("nan"), 0.0], tk.InvalidInputError, "qf must be finite"),
+        ([0.0, 0.0, 0.0], tk.InvalidInputError, "target must be a number or 2 numbers"),
+        (["a", 0.0], tk.InvalidInputError, "target"),
+    ],
+)
+def test_bad_targets_are_refused_by_name(target, error, message):
+    gen = tk.online.Generator(2, 0.01, V, A, J)
+    with pytest.raises(error, match=message):
+        gen.update(target)
+
+
+def test_a_target_velocity_beyond_the_limit_is_infeasible():
+    gen = tk.online.Generator(2, 0.01, V, A, J)
+    with pytest.raises(tk.InfeasibleError, match=r"vf=3 rad/s is beyond the limit 2 rad/s"):
+        gen.update([1.0, 1.0], velocity=[0.0, 3.0])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [({"ndof": 0}, "ndof must be a positive integer"), ({"dt": 0.0}, "dt must be > 0")],
+)
+def test_bad_construction(kwargs, message):
+    args = {"ndof": 2, "dt": 0.01} | kwargs
+    with pytest.raises(tk.InvalidInputError, match=message):
+        tk.online.Generator(args["ndof"], args["dt"], V, A, J)
