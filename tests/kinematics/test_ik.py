@@ -11,7 +11,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from trajkit.errors import InvalidInputError, UnreachableError
@@ -359,7 +359,9 @@ def test_analytic_joint_ranges_are_searched_modulo_a_turn():
 
 
 # ------------------------------------------------------------------------ UR5 (numerical)
-@settings(max_examples=40)
+# Configurations near a singularity are filtered out by design (about a third); the
+# derandomized CI profile once drew a run of them, failing the filter health check.
+@settings(max_examples=40, suppress_health_check=[HealthCheck.filter_too_much])
 @given(
     q=st.tuples(*[st.floats(-np.pi, np.pi)] * 6),
     noise=st.tuples(*[st.floats(-0.05, 0.05)] * 6),
