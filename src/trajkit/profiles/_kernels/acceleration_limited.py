@@ -62,26 +62,9 @@ from trajkit.profiles._kernels.profile import (
     check_second_order,
     copy_boundary,
     duration,
+    no_blocks,
+    set_times,
 )
-
-
-@njit(cache=True, error_model="numpy")
-def _set_times(prof, t0, t1, t2, t6):
-    """Write a candidate's phase durations; phases 3 to 5 stay empty."""
-    prof[T] = t0
-    prof[T + 1] = t1
-    prof[T + 2] = t2
-    prof[T + 3] = 0.0
-    prof[T + 4] = 0.0
-    prof[T + 5] = 0.0
-    prof[T + 6] = t6
-
-
-@njit(cache=True, error_model="numpy")
-def _no_blocks(block_times):
-    """Mark both blocked intervals absent (a single profile blocks nothing)."""
-    for k in range(1, 5):
-        block_times[k] = math.inf
 
 
 @njit(cache=True, error_model="numpy")
@@ -283,7 +266,7 @@ def _refine_timed(prof, tf, a_up, a_down, limits, v_max, v_min):
     t6 = prof[T + 6]
     _polish_ramps(prof, tf, a_up, a_down, limits, v_max, v_min)
     if not check_second_order(prof, UDDU, limits, a_up, a_down, v_max, v_min):
-        _set_times(prof, t0, t1, t2, t6)
+        set_times(prof, t0, t1, t2, t6)
         check_second_order(prof, UDDU, limits, a_up, a_down, v_max, v_min)
 
 
@@ -304,7 +287,7 @@ def _fastest_coast(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, polish)
         + v_max * (a_max - a_min) / (2.0 * a_max * a_min)
         + pd / v_max
     )
-    _set_times(valid[count], (v_max - v0) / a_max, t_coast, (vf - v_max) / a_min, 0.0)
+    set_times(valid[count], (v_max - v0) / a_max, t_coast, (vf - v_max) / a_min, 0.0)
     if polish:
         _polish_coast(valid[count], a_max, a_min, v_max, v_min)
     return _accept(valid, count, ACC0, a_max, a_min, v_max, v_min)
@@ -336,7 +319,7 @@ def _fastest_peak(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, first_on
                 v_peak = v0
             elif abs(v_peak - vf) <= 4.0 * EPS * max(abs(v_peak), abs(vf)):
                 v_peak = vf
-        _set_times(valid[count], (v_peak - v0) / a_max, 0.0, (vf - v_peak) / a_min, 0.0)
+        set_times(valid[count], (v_peak - v0) / a_max, 0.0, (vf - v_peak) / a_min, 0.0)
         if polish:
             _polish_ramps(valid[count], math.inf, a_max, a_min, NONE, v_max, v_min)
         before = count
@@ -404,7 +387,7 @@ def _zero_velocity_limits(prof, v_max, v_min, block, block_times):
     v0 = prof[V]
     if abs(prof[VF] - v0) > EPS:
         return False
-    _set_times(p_min, 0.0, 0.0, 0.0, 0.0)
+    set_times(p_min, 0.0, 0.0, 0.0, 0.0)
     if abs(v0) > EPS:
         p_min[T + 3] = (prof[PF] - prof[P]) / v0
     elif abs(prof[PF] - prof[P]) >= EPS:
@@ -412,7 +395,7 @@ def _zero_velocity_limits(prof, v_max, v_min, block, block_times):
     if not check_second_order(p_min, UDDU, NONE, 0.0, 0.0, v_max, v_min):
         return False
     block_times[0] = duration(p_min)
-    _no_blocks(block_times)
+    no_blocks(block_times)
     if abs(v0) > EPS:
         # A coast has exactly one duration: every longer one is blocked.
         block_times[1] = block_times[0]
@@ -524,7 +507,7 @@ def _timed_coast(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min):
     if square >= 0.0:
         t_coast = math.sqrt(square)
         t_up = (a_max * vd - a_max * a_min * (tf - t_coast)) / (a_max * (a_max - a_min))
-        _set_times(prof, t_up, t_coast, tf - (t_up + t_coast), 0.0)
+        set_times(prof, t_up, t_coast, tf - (t_up + t_coast), 0.0)
         if check_second_order(prof, UDDU, ACC0, a_max, a_min, v_max, v_min):
             _refine_timed(prof, tf, a_max, a_min, ACC0, v_max, v_min)
             return True
@@ -533,12 +516,12 @@ def _timed_coast(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min):
     h = a_max * tf - vd
     t_up = -vd * vd / (2.0 * a_max * h) + (pd - v0 * tf) / h
     t_coast = tf - vd / a_max
-    _set_times(prof, t_up, t_coast, 0.0, tf - (t_up + t_coast))
+    set_times(prof, t_up, t_coast, 0.0, tf - (t_up + t_coast))
     if check_second_order(prof, UDDU, ACC0, a_max, a_min, v_max, v_min):
         _refine_timed(prof, tf, a_max, a_min, ACC0, v_max, v_min)
         return True
     # Coast at v0, then the whole velocity change at a_max.
-    _set_times(prof, 0.0, tf - vd / a_max, 0.0, vd / a_max)
+    set_times(prof, 0.0, tf - vd / a_max, 0.0, vd / a_max)
     return check_second_order(prof, UDDU, ACC0, a_max, a_min, v_max, v_min)
 
 
@@ -551,13 +534,13 @@ def _timed_free(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min):
     acceleration is ``vd / t0``, which must lie within the limits.
     """
     if abs(v0) < EPS and abs(vf) < EPS and abs(pd) < EPS:
-        _set_times(prof, 0.0, tf, 0.0, 0.0)
+        set_times(prof, 0.0, tf, 0.0, 0.0)
         if check_second_order(prof, UDDU, NONE, a_max, a_min, v_max, v_min):
             return True
     vd = vf - v0
     h = 2.0 * (vf * tf - pd)
     t_ramp = h / vd
-    _set_times(prof, t_ramp, tf - t_ramp, 0.0, 0.0)
+    set_times(prof, t_ramp, tf - t_ramp, 0.0, 0.0)
     a_ramp = vd * vd / h
     # Only a_ramp is bounded: the a_down phase is empty. In the mirrored call
     # the bounds are swapped and so exclude every a_ramp (as in the reference).
@@ -637,11 +620,11 @@ def _try_ramps(row, tf, v_peak, a1, a3, v_max, v_min, a_max, a_min):
     if a1 == a3:
         a_up = a1
         a_down = a_min if a1 == a_max else a_max
-        _set_times(row, t1, t2, 0.0, t3)
+        set_times(row, t1, t2, 0.0, t3)
     else:
         a_up = a1
         a_down = a3
-        _set_times(row, t1, t2, t3, 0.0)
+        set_times(row, t1, t2, t3, 0.0)
     hi, lo = _bounds_by_direction(a_up == a_max, v_max, v_min)
     _polish_ramps(row, tf, a_up, a_down, ACC0, hi, lo)
     return check_second_order(row, UDDU, ACC0, a_up, a_down, hi, lo)
@@ -662,9 +645,9 @@ def _try_free(row, tf, t_ramp, first, v_max, v_min, a_max, a_min):
         return False
     a_ramp = min(max(a_ramp, a_min), a_max)
     if first:
-        _set_times(row, t_ramp, tf - t_ramp, 0.0, 0.0)
+        set_times(row, t_ramp, tf - t_ramp, 0.0, 0.0)
     else:
-        _set_times(row, 0.0, tf - t_ramp, 0.0, t_ramp)
+        set_times(row, 0.0, tf - t_ramp, 0.0, t_ramp)
     hi, lo = _bounds_by_direction(a_ramp > 0.0, v_max, v_min)
     return check_second_order(row, UDDU, NONE, a_ramp, -a_ramp, hi, lo)
 
@@ -805,7 +788,7 @@ def velocity_limited_fastest(prof, v_max, v_min, block, block_times):
     if not _check_first_order(p_min, VEL, v_up):
         return False
     block_times[0] = duration(p_min)
-    _no_blocks(block_times)
+    no_blocks(block_times)
     return True
 
 

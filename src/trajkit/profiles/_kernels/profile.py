@@ -444,3 +444,22 @@ def first_time_at_position(prof, position, time_after):
     ):
         return total
     return -1.0
+
+
+@njit(cache=True, error_model="numpy")
+def set_times(prof, t0, t1, t2, t6):
+    """Write a candidate's phase durations 0, 1, 2 and 6; phases 3 to 5 stay empty."""
+    prof[T] = t0
+    prof[T + 1] = t1
+    prof[T + 2] = t2
+    prof[T + 3] = 0.0
+    prof[T + 4] = 0.0
+    prof[T + 5] = 0.0
+    prof[T + 6] = t6
+
+
+@njit(cache=True, error_model="numpy")
+def no_blocks(block_times):
+    """Mark both blocked intervals absent (a single profile blocks nothing)."""
+    for k in range(1, 5):
+        block_times[k] = math.inf

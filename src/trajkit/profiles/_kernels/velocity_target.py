@@ -31,26 +31,9 @@ from trajkit.profiles._kernels.profile import (
     check_velocity_with_timing,
     copy_boundary,
     duration,
+    no_blocks,
+    set_times,
 )
-
-
-@njit(cache=True, error_model="numpy")
-def _set_times(prof, t0, t1, t2, t6):
-    """Write a candidate's phase durations; phases 3 to 5 stay empty."""
-    prof[T] = t0
-    prof[T + 1] = t1
-    prof[T + 2] = t2
-    prof[T + 3] = 0.0
-    prof[T + 4] = 0.0
-    prof[T + 5] = 0.0
-    prof[T + 6] = t6
-
-
-@njit(cache=True, error_model="numpy")
-def _no_blocks(block_times):
-    """Mark both blocked intervals absent."""
-    for k in range(1, 5):
-        block_times[k] = math.inf
 
 
 @njit(cache=True, error_model="numpy")
@@ -79,7 +62,7 @@ def _fastest_hold(valid, count, a0, af, vd, a_max, a_min, j_max):
     if count >= valid.shape[0]:
         return count
     t_hold = (a0 * a0 + af * af) / (2.0 * a_max * j_max) - a_max / j_max + vd / a_max
-    _set_times(valid[count], (a_max - a0) / j_max, t_hold, (a_max - af) / j_max, 0.0)
+    set_times(valid[count], (a_max - a0) / j_max, t_hold, (a_max - af) / j_max, 0.0)
     return _accept(valid, count, ACC0, j_max, a_max, a_min)
 
 
@@ -99,7 +82,7 @@ def _fastest_peak(valid, count, a0, af, vd, a_max, a_min, j_max, first_only):
         if count >= valid.shape[0]:
             return count
         a_peak = sign * peak
-        _set_times(valid[count], (a_peak - a0) / j_max, 0.0, (a_peak - af) / j_max, 0.0)
+        set_times(valid[count], (a_peak - a0) / j_max, 0.0, (a_peak - af) / j_max, 0.0)
         before = count
         count = _accept(valid, count, NONE, j_max, a_max, a_min)
         if first_only and count > before:
@@ -162,7 +145,7 @@ def _zero_jerk_limit(prof, a_max, a_min, block, block_times):
     vd = prof[VF] - prof[V]
     if abs(prof[AF] - a0) > EPS:
         return False
-    _set_times(p_min, 0.0, 0.0, 0.0, 0.0)
+    set_times(p_min, 0.0, 0.0, 0.0, 0.0)
     if abs(a0) > EPS:
         p_min[T + 3] = vd / a0
     elif abs(vd) >= EPS:
@@ -170,7 +153,7 @@ def _zero_jerk_limit(prof, a_max, a_min, block, block_times):
     if not check_velocity(p_min, UDDU, NONE, 0.0, a_max, a_min):
         return False
     block_times[0] = duration(p_min)
-    _no_blocks(block_times)
+    no_blocks(block_times)
     if abs(a0) > EPS:
         # Holding a nonzero acceleration reaches vf at one instant only.
         block_times[1] = block_times[0]
@@ -223,7 +206,7 @@ def _timed_hold(prof, tf, a0, af, vd, a_max, a_min, j_max):
     if square >= 0.0:
         t_hold = math.sqrt(square)
         t_up = ad / (2.0 * j_max) + (tf - t_hold) / 2.0
-        _set_times(prof, t_up, t_hold, tf - (t_up + t_hold), 0.0)
+        set_times(prof, t_up, t_hold, tf - (t_up + t_hold), 0.0)
         if check_velocity(prof, UDDU, ACC0, j_max, a_max, a_min):
             return True
     # Up-hold-up: the ramps share ad/j, the hold takes the rest of tf, and the
@@ -231,11 +214,11 @@ def _timed_hold(prof, tf, a0, af, vd, a_max, a_min, j_max):
     h = j_max * tf - ad
     t_up = -ad * ad / (2.0 * j_max * h) + (vd - a0 * tf) / h
     t_hold = tf - ad / j_max
-    _set_times(prof, t_up, t_hold, 0.0, tf - (t_up + t_hold))
+    set_times(prof, t_up, t_hold, 0.0, tf - (t_up + t_hold))
     if check_velocity(prof, UDDU, ACC0, j_max, a_max, a_min):
         return True
     # Hold a0, then the whole acceleration change in one ramp.
-    _set_times(prof, 0.0, tf - ad / j_max, 0.0, ad / j_max)
+    set_times(prof, 0.0, tf - ad / j_max, 0.0, ad / j_max)
     return check_velocity(prof, UDDU, ACC0, j_max, a_max, a_min)
 
 
@@ -248,13 +231,13 @@ def _timed_free(prof, tf, a0, af, vd, a_max, a_min, j_max):
     ``ad / t0``, bounded by ``jmax``.
     """
     if abs(a0) < EPS and abs(af) < EPS and abs(vd) < EPS:
-        _set_times(prof, 0.0, tf, 0.0, 0.0)
+        set_times(prof, 0.0, tf, 0.0, 0.0)
         if check_velocity(prof, UDDU, NONE, j_max, a_max, a_min):
             return True
     ad = af - a0
     h = 2.0 * (af * tf - vd)
     t_ramp = h / ad
-    _set_times(prof, t_ramp, tf - t_ramp, 0.0, 0.0)
+    set_times(prof, t_ramp, tf - t_ramp, 0.0, 0.0)
     return check_velocity_with_timing(prof, UDDU, NONE, ad * ad / h, a_max, a_min, j_max)
 
 
@@ -328,11 +311,11 @@ def acceleration_fastest(prof, a_max, a_min, valid, block, block_times):
     copy_boundary(p_min, prof)
     vd = prof[VF] - prof[V]
     a_up = a_max if vd > 0.0 else a_min
-    _set_times(p_min, 0.0, vd / a_up, 0.0, 0.0)
+    set_times(p_min, 0.0, vd / a_up, 0.0, 0.0)
     if not check_second_order_velocity(p_min, UDDU, ACC0, a_up):
         return False
     block_times[0] = duration(p_min)
-    _no_blocks(block_times)
+    no_blocks(block_times)
     return True
 
 
@@ -356,7 +339,7 @@ def acceleration_timed(prof, tf, a_max, a_min):
         False if ``vd/tf`` breaks a limit.
     """
     a_up = (prof[VF] - prof[V]) / tf
-    _set_times(prof, 0.0, tf, 0.0, 0.0)
+    set_times(prof, 0.0, tf, 0.0, 0.0)
     if not check_second_order_velocity_with_timing(prof, UDDU, NONE, a_up, a_max, a_min):
         return False
     prof[PF] = prof[P + 7]
