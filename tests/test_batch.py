@@ -385,8 +385,8 @@ INVALID = [
     ({"q0": np.zeros(3), "qf": np.ones(3)}, "shape (B, ndof) with B, ndof >= 1, got (3,)"),
     ({"q0": 0.0, "qf": 1.0}, "problems must have shape (B, ndof)"),
     ({"q0": np.zeros((2, 2, 2)), "qf": 0.0}, "q0 must have shape (B, ndof) or broadcast to it"),
-    ({"qf": np.ones((3, 3))}, "q0, qf, v0, vf must broadcast to one (B, ndof) shape"),
-    ({"v0": np.zeros((2, 2))}, "q0, qf, v0, vf must broadcast to one (B, ndof) shape"),
+    ({"qf": np.ones((3, 3))}, "q0, qf, v0, vf, a0, af must broadcast to one (B, ndof) shape"),
+    ({"v0": np.zeros((2, 2))}, "got q0 (2, 3), qf (2, 3), v0 (2, 2)"),
     ({"q0": np.zeros((0, 3)), "qf": np.ones((0, 3))}, "with B, ndof >= 1, got (0, 3)"),
     ({"q0": np.full((2, 3), np.nan)}, "q0 must be finite"),
     ({"vmax": np.ones(2)}, "vmax must broadcast to the problems' shape (2, 3), got (2,)"),
@@ -399,7 +399,7 @@ INVALID = [
     ({"vmax": (-1.0, 1.0, 2.0)}, "vmax given as a tuple must be (lower, upper)"),
     ({"vmax": None}, "vmax is required"),
     ({"amax": float("inf")}, "amax must be finite"),
-    ({"sync": "phases"}, "sync must be 'time', 'phase' or None, got 'phases'"),
+    ({"sync": "phases"}, "sync must be 'time', 'phase', 'time_if_necessary' or None, got 'phases'"),
     ({"dt": 0.0}, "dt must be > 0"),
     ({"dt": -1.0}, "dt must be > 0"),
 ]  # fmt: skip
@@ -412,13 +412,20 @@ def test_invalid_input(change, fragment):
     assert fragment in str(info.value)
 
 
-def test_boundary_velocity_beyond_the_limit_names_problem_and_joint():
+def test_target_velocity_beyond_the_limit_names_problem_and_joint():
+    vf = np.zeros((2, 3))
+    vf[1, 2] = 1.5
+    with pytest.raises(tk.InfeasibleError, match=r"problem 1: vf=1\.5 rad/s .*\(joint 3\)"):
+        tk.batch.trapezoidal(**GOOD, vf=vf)
+
+
+def test_a_start_beyond_the_limit_is_braked_as_the_single_planner_brakes_it():
     v0 = np.zeros((2, 3))
     v0[1, 2] = 1.5
-    with pytest.raises(tk.InfeasibleError, match=r"v0=1\.5 rad/s .*\(problem 1, joint 3\)"):
-        tk.batch.trapezoidal(**GOOD, v0=v0)
-    with pytest.raises(tk.InfeasibleError, match=r"vf=-2 rad/s .*\(problem 0, joint 1\)"):
-        tk.batch.trapezoidal(**GOOD, vf=np.array([[-2.0, 0.0, 0.0], [0.0, 0.0, 0.0]]))
+    plans = tk.batch.trapezoidal(**GOOD, v0=v0)
+    single = tk.trapezoidal(GOOD["q0"][1], GOOD["qf"][1], 1.0, 1.0, v0=v0[1])
+    assert plans.durations[1] == pytest.approx(single.duration, rel=1e-12)
+    np.testing.assert_allclose(plans.position(single.duration)[1], [1.0, 1.0, 1.0], atol=1e-12)
 
 
 @pytest.mark.parametrize(

@@ -1,8 +1,9 @@
 """Plan many problems at once: arrays of shape ``(B, ndof)``, no Python loop per problem.
 
-Each planner returns a :class:`BatchTrajectory` holding every problem's phases;
-it evaluates all problems in one vectorized call and turns any one of them into an
-ordinary :class:`~trajkit.Trajectory`.
+Each planner runs the compiled engine over every problem in parallel and returns a
+:class:`BatchTrajectory` holding each problem's phase tables; it evaluates all
+problems in one call and turns any one of them into the same
+:class:`~trajkit.Trajectory` the single-problem planner returns.
 
 Examples
 --------
@@ -22,27 +23,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from trajkit._validation import FloatArray, finite_array, positive_scalar
-from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit._validation import FloatArray, as_float_array, finite_array, positive_scalar
+from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.limits import LimitSpec
-from trajkit.profiles import _trapezoid_math as math
-from trajkit.profiles._phases import PhasePlan, final_states, phase_states, plan_to_trajectory
-from trajkit.profiles.scurve import SCurveSolution, quantize_scurve, solve_scurve
-from trajkit.profiles.scurve import rest_plan as scurve_rest_plan
-from trajkit.profiles.trapezoidal import (
-    Sync,
-    TrapezoidSolution,
-    _read_sync,
-    quantize_trapezoid,
-    solve_trapezoid,
-)
+from trajkit.profiles import engine, limited
+from trajkit.profiles._phases import PhasePlan
 from trajkit.trajectory import Trajectory
 
 __all__ = ["BatchTrajectory", "scurve", "trapezoidal"]
 
 
 class BatchTrajectory:
-    """``B`` planned problems of ``ndof`` joints each, stored as phase plans.
+    """``B`` planned problems of ``ndof`` joints each, stored as phase tables.
 
     Attributes
     ----------
@@ -54,35 +46,27 @@ class BatchTrajectory:
 
     Notes
     -----
-    Evaluation clamps ``t`` to ``[0, duration]`` per problem, like
-    :class:`~trajkit.Trajectory`; a joint that finishes before its problem's
-    duration continues at its final velocity with zero acceleration.
+    Evaluation is that of each problem's :class:`~trajkit.Trajectory` (``batch[i]``):
+    ``t`` clamped to ``[0, duration]`` per problem, the exact end state from the
+    end on; a joint that finishes before its problem's duration continues at its
+    final velocity with zero acceleration.
     """
 
-    __slots__ = (
-        "_end_state", "_info", "_make_info", "_make_plan", "_plan", "_tables", "durations"
-    )  # fmt: skip
+    __slots__ = ("_info", "_make_info", "_matrix", "_planner", "_result", "durations")
 
     def __init__(
         self,
-        durations: FloatArray,
-        plan: Callable[[], PhasePlan],
+        planner: str,
+        matrix: FloatArray,
+        result: engine.EngineResult,
         info: Callable[[], dict[str, Any]],
     ) -> None:
-        # Planning is the hot path: phase tables and info are built on first use.
-        self.durations = durations
-        self._make_plan, self._make_info = plan, info
-        self._plan: PhasePlan | None = None
+        self._planner = planner
+        self._matrix = matrix  # (B, 11, ndof): the problems as the engine read them
+        self._result = result
+        self.durations = result.duration
+        self._make_info = info
         self._info: dict[str, Any] | None = None
-        self._tables: tuple[FloatArray, ...] | None = None
-        self._end_state: FloatArray | None = None  # (rows, B, ndof), NaN: the polynomial's
-
-    @property
-    def plan(self) -> PhasePlan:
-        """Every problem's phases (start states, durations, accelerations, jerks)."""
-        if self._plan is None:
-            self._plan = self._make_plan()
-        return self._plan
 
     @property
     def info(self) -> dict[str, Any]:
@@ -91,28 +75,15 @@ class BatchTrajectory:
             self._info = self._make_info()
         return self._info
 
-    def _phase_tables(self) -> tuple[FloatArray, ...]:
-        """Start time and state of every phase, plus a final open-ended coast."""
-        if self._tables is None:
-            plan = self.plan
-            t_start, p_start, v_start = phase_states(plan)
-            d, a, j = plan.durations, plan.accelerations, plan.jerks
-            last_t = t_start[..., -1] + d[..., -1]
-            # The final coast starts from the targets where the phases reach them, as
-            # in problem i's own Trajectory (batch[i]); the end state holds after.
-            last_p, last_v, end_state = final_states(plan, t_start, p_start, v_start,
-                                                     self.durations)  # fmt: skip
-            self._end_state = end_state
-            extend = lambda x, y: np.concatenate([x, y[..., np.newaxis]], axis=-1)  # noqa: E731
-            zero = np.zeros_like(last_t)
-            self._tables = (
-                extend(t_start, last_t),
-                extend(p_start, last_p),
-                extend(v_start, last_v),
-                extend(a, zero),
-                extend(j, zero),
-            )
-        return self._tables
+    @property
+    def plan(self) -> PhasePlan:
+        """Every problem's nine phases (start states, durations, accelerations, jerks)."""
+        m = self._matrix
+        return engine.phase_plan(self._result, m[:, 0], m[:, 2], m[:, 4])
+
+    def _boundaries(self) -> tuple[FloatArray, FloatArray]:
+        m = self._matrix
+        return m[:, [0, 2, 4]], m[:, [1, 3, 5]]  # start and target, (B, 3, ndof)
 
     def __len__(self) -> int:
         return int(self.durations.shape[0])
@@ -120,7 +91,7 @@ class BatchTrajectory:
     @property
     def ndof(self) -> int:
         """Number of joints per problem."""
-        return int(self.plan.position.shape[-1])
+        return int(self._matrix.shape[-1])
 
     def __repr__(self) -> str:
         return f"BatchTrajectory(problems={len(self)}, ndof={self.ndof})"
@@ -130,49 +101,32 @@ class BatchTrajectory:
 
         ``t`` scalar gives ``(B, ndof)``; ``t`` of shape ``(m,)`` gives ``(B, m, ndof)``.
         """
+        from trajkit.profiles._kernels.tables import evaluate_batch
+
         if isinstance(order, bool) or order not in (0, 1, 2, 3):
             raise InvalidInputError(f"order must be 0, 1, 2 or 3, got {order!r}")
         times = finite_array("t", t, unit="s")
         if times.ndim > 1:
             raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
         scalar = times.ndim == 0
-        m = np.atleast_1d(times)  # (m,)
-        clamped = np.clip(m[np.newaxis, :], 0.0, self.durations[:, np.newaxis])  # (B, m)
-        starts, *states = self._phase_tables()
-        begun = starts[:, :, np.newaxis, :] <= clamped[:, np.newaxis, :, np.newaxis]
-        # Like Trajectory: at the very end the last phase holds; the open-ended coast
-        # of a joint that arrived early starts right at its arrival.
-        at_end = (clamped >= self.durations[:, np.newaxis])[:, np.newaxis, :]
-        begun[..., -1] &= (starts[:, :, np.newaxis, -1] < clamped[:, np.newaxis, :]) | ~at_end
-        # Zero-length phases hold no time: never the phase a time falls in (a pure coast's
-        # empty fall phase once lent it its acceleration at the end). The final coast
-        # serves when nothing else has begun (a standstill).
-        begun &= np.concatenate(
-            [self.plan.durations > 0.0, np.ones((*starts.shape[:2], 1), bool)], axis=-1
-        )[:, :, np.newaxis, :]
-        begun[..., -1] |= ~begun[..., :-1].any(axis=-1)
-        # The last non-empty phase begun wins.
-        index = (begun.shape[-1] - 1) - np.argmax(begun[..., ::-1], axis=-1)  # (B, ndof, m)
-        take = lambda x: np.take_along_axis(x, index, axis=-1)  # noqa: E731
-        x = clamped[:, np.newaxis, :] - take(starts)
-        p, v, a, j = (take(q) for q in states)
-        if order == 0:
-            value = p + v * x + a * x**2 / 2 + j * x**3 / 6
-        elif order == 1:
-            value = v + a * x + j * x**2 / 2
-        elif order == 2:
-            value = a + j * x
-        else:
-            value = j + 0 * x
-        value = np.moveaxis(value, 1, -1)  # (B, m, ndof)
-        exact = self._end_state
-        if exact is not None and order < exact.shape[0]:
-            # From the end time on, the exact end state each problem was planned for
-            # (as Trajectory gives it), not the phases' rounded sums.
-            known = exact[order][:, np.newaxis, :]  # (B, 1, ndof)
-            after = (m[np.newaxis, :] >= self.durations[:, np.newaxis])[..., np.newaxis]
-            value = np.where(after & ~np.isnan(known), known, value)
-        return value[:, 0, :] if scalar else value
+        grid = np.ascontiguousarray(np.atleast_1d(times), dtype=np.float64)
+        out = np.empty((len(self), grid.size, self.ndof))
+        start, target = self._boundaries()
+        r = self._result
+        engine.run(
+            "evaluate_batch",
+            evaluate_batch,
+            np.ascontiguousarray(start),
+            np.ascontiguousarray(target),
+            r.t,
+            r.u,
+            r.second_order,
+            self.durations,
+            grid,
+            int(order),
+            out,
+        )
+        return out[:, 0, :] if scalar else out
 
     def position(self, t: ArrayLike) -> FloatArray:
         """Positions of every problem at ``t``."""
@@ -191,24 +145,40 @@ class BatchTrajectory:
         return self.evaluate(t, 3)
 
     def __getitem__(self, i: int) -> Trajectory:
-        """Problem ``i`` as an ordinary Trajectory."""
+        """Problem ``i`` as an ordinary Trajectory (the same pieces its single planner builds)."""
+        from trajkit.profiles._kernels.tables import PHASES, pieces
+
         if isinstance(i, bool) or not isinstance(i, int | np.integer):
             raise InvalidInputError(f"index must be an integer, got {i!r}")
         if not -len(self) <= i < len(self):
             raise IndexError(f"problem {i} out of range for {len(self)} problems")
-        plan = self.plan
-        single = PhasePlan(
-            plan.position[i],
-            plan.velocity[i],
-            plan.durations[i],
-            plan.accelerations[i],
-            plan.jerks[i],
-            None if plan.end_position is None else plan.end_position[i],
-            None if plan.end_velocity is None else plan.end_velocity[i],
-            None if plan.end_acceleration is None else plan.end_acceleration[i],
+        i = int(i) % len(self)
+        start, target = self._boundaries()
+        r = self._result
+        ndof = self.ndof
+        breakpoints = np.empty(PHASES * ndof + 2)
+        coefficients = np.empty((4, PHASES * ndof + 1, ndof))
+        end = np.empty((3, ndof))
+        count = engine.run(
+            "pieces",
+            pieces,
+            np.ascontiguousarray(start[i]),
+            np.ascontiguousarray(target[i]),
+            r.t[i],
+            r.u[i],
+            r.second_order[i],
+            float(self.durations[i]),
+            breakpoints,
+            coefficients,
+            end,
         )
         info = {key: _item(value, i) for key, value in self.info.items()}
-        return plan_to_trajectory(single, float(self.durations[i]), info)
+        return Trajectory._trusted(
+            breakpoints[: count + 1],
+            np.ascontiguousarray(coefficients[:, :count]),
+            limited.LazyInfo(lambda: info),
+            end,
+        )
 
 
 def _item(value: Any, i: int) -> Any:
@@ -216,6 +186,10 @@ def _item(value: Any, i: int) -> Any:
         item = value[i]
         return item.tolist() if isinstance(item, np.ndarray) else item.item()
     return value
+
+
+_ROWS = ("q0", "qf", "v0", "vf", "a0", "af")
+_UNITS = ("rad", "rad", "rad/s", "rad/s", "rad/s^2", "rad/s^2")
 
 
 def _problem_array(name: str, value: ArrayLike, unit: str) -> FloatArray:
@@ -227,112 +201,134 @@ def _problem_array(name: str, value: ArrayLike, unit: str) -> FloatArray:
     return array
 
 
-def _limit_pair(
-    name: str, spec: LimitSpec, shape: tuple[int, int], unit: str
-) -> tuple[FloatArray, FloatArray]:
-    """``(upper, -lower)`` magnitudes, broadcastable to ``(B, ndof)`` (not copied)."""
+def _limit_rows(name: str, spec: LimitSpec, unit: str) -> tuple[FloatArray, FloatArray]:
+    """(lower, upper) of a limit, each broadcastable to ``(B, ndof)``."""
     if spec is None:
         raise InvalidInputError(f"{name} is required ({unit})")
     if isinstance(spec, tuple):
         if len(spec) != 2:
             raise InvalidInputError(f"{name} given as a tuple must be (lower, upper)")
+        lower = _problem_array(f"{name} lower bound", spec[0], unit)
         upper = _problem_array(f"{name} upper bound", spec[1], unit)
-        negative = -_problem_array(f"{name} lower bound", spec[0], unit)
-    else:
-        upper = _problem_array(name, spec, unit)
-        negative = upper  # symmetric: the same object, which the planners detect
-    for value in (upper, negative):
-        try:
-            np.broadcast_shapes(value.shape, shape)
-        except ValueError:
+        if np.any(lower >= 0) or np.any(upper <= 0):
             raise InvalidInputError(
-                f"{name} must broadcast to the problems' shape {shape}, got {value.shape}"
-            ) from None
-    if np.any(upper <= 0) or np.any(negative <= 0):
-        raise InvalidInputError(f"{name} must allow motion both ways: lower < 0 < upper ({unit})")
-    return upper, negative
-
-
-def _problems(q0: ArrayLike, qf: ArrayLike, v0: ArrayLike, vf: ArrayLike) -> tuple[FloatArray, ...]:
-    """Validated problem arrays; boundary velocities stay unbroadcast (often scalar 0)."""
-    arrays = [
-        _problem_array(n, v, u)
-        for n, v, u in (
-            ("q0", q0, "rad"), ("qf", qf, "rad"), ("v0", v0, "rad/s"), ("vf", vf, "rad/s"),
-        )
-    ]  # fmt: skip
-    try:
-        shape = np.broadcast_shapes(*(a.shape for a in arrays))
-    except ValueError:
+                f"{name} must allow motion both ways: (lower, upper) with lower < 0 < upper "
+                f"{unit}, got lower {_extreme(lower, np.max)}, upper {_extreme(upper, np.min)}"
+            )
+        return lower, upper
+    upper = _problem_array(name, spec, unit)
+    if np.any(upper <= 0):
         raise InvalidInputError(
-            "q0, qf, v0, vf must broadcast to one (B, ndof) shape, got "
-            + ", ".join(str(a.shape) for a in arrays)
+            f"{name} must allow motion both ways: a symmetric limit must be > 0 {unit}, got "
+            f"{float(upper[upper <= 0].flat[0]):g}"
+        )
+    return -upper, upper
+
+
+def _extreme(values: FloatArray, pick: Any) -> str:
+    return f"{float(pick(values)):g}"
+
+
+def _broadcast(names: tuple[str, ...], rows: list[FloatArray]) -> tuple[int, ...]:
+    try:
+        return np.broadcast_shapes(*(r.shape for r in rows))
+    except ValueError:
+        shapes = ", ".join(f"{n} {r.shape}" for n, r in zip(names, rows, strict=True) if r.ndim)
+        raise InvalidInputError(
+            f"{', '.join(names)} must broadcast to one (B, ndof) shape, got {shapes}"
         ) from None
+
+
+def _matrix(
+    planner: str, values: dict[str, ArrayLike], vmax: LimitSpec, amax: LimitSpec, jmax: ArrayLike
+) -> FloatArray:
+    """Every problem as the engine reads it, ``(B, 11, ndof)``, validated."""
+    rows = [_problem_array(n, values[n], u) for n, u in zip(_ROWS, _UNITS, strict=True)]
+    rows += [*_limit_rows("vmax", vmax, "rad/s"), *_limit_rows("amax", amax, "rad/s^2")]
+    jerk = np.array(as_float_array("jmax", jmax), dtype=float)
+    if jerk.ndim > 2:
+        raise InvalidInputError(
+            f"jmax must have shape (B, ndof) or broadcast to it, got {jerk.shape}"
+        )
+    rows.append(jerk)
+    shape = _broadcast(_ROWS, rows[:6])
+    for name, pair in (("vmax", rows[6:8]), ("amax", rows[8:10]), ("jmax", rows[10:])):
+        for row in pair:
+            try:
+                shape = np.broadcast_shapes(shape, row.shape)
+            except ValueError:
+                raise InvalidInputError(
+                    f"{name} must broadcast to the problems' shape {shape}, got {row.shape}"
+                ) from None
     if len(shape) != 2 or 0 in shape:
         raise InvalidInputError(
             f"problems must have shape (B, ndof) with B, ndof >= 1, got {shape}"
         )
-    start, end, start_v, end_v = arrays
-    return np.broadcast_to(start, shape), np.broadcast_to(end, shape), start_v, end_v
+    m = np.empty((shape[0], 11, shape[1]))
+    for k, row in enumerate(rows):
+        m[:, k] = row
+    from trajkit.profiles._kernels.admissible import admissible_batch
+
+    bad = engine.run("admissible_batch", admissible_batch, m)
+    if bad >= 0:
+        _explain(planner, m[bad], bad)
+    return m
 
 
-def _refuse_fast_boundaries(
-    start_v: FloatArray,
-    end_v: FloatArray,
-    vpos: FloatArray,
-    vneg: FloatArray,
-    shape: tuple[int, int],
-    label: str,
-) -> None:
-    """Refuse a boundary velocity beyond its limit, naming the problem and joint."""
-    for name, values in (("v0", start_v), ("vf", end_v)):
-        if not values.any():
-            continue  # at rest: within any limit (cheap test first: the common case)
-        beyond = np.broadcast_to((values > vpos) | (values < -vneg), shape)
-        if beyond.any():
-            b, j = np.argwhere(beyond)[0]
-            value = np.broadcast_to(values, shape)[b, j]
-            raise InfeasibleError(
-                f"{name}={value:.6g} rad/s is beyond {label} (problem {b}, joint {j + 1})"
-            )
+def _explain(planner: str, m: FloatArray, i: int) -> None:
+    """Raise the single-problem validators' error for problem ``i``, naming it."""
+    try:
+        limited.read_problem(
+            planner,
+            m[0],
+            m[1],
+            (m[6], m[7]),
+            (m[8], m[9]),
+            m[10],
+            v0=m[2],
+            vf=m[3],
+            a0=m[4],
+            af=m[5],
+            sync="time",
+        )
+    except TrajkitError as error:
+        raise type(error)(f"problem {i}: {error}") from None
+    raise AssertionError(f"problem {i} refused by the fast check but not by the validators")
 
 
-def _args(start, end, start_v, end_v, vpos, vneg, apos, aneg):
-    shape = start.shape
-    # Every argument (B, ndof): the general solver concatenates them, so shared scalar,
-    # per-joint or tuple limits must be spread over the problems first.
-    return tuple(np.broadcast_to(x, shape) for x in
-                 (end - start, start_v, end_v, vpos, vneg, apos, aneg))  # fmt: skip
+def _sync_codes(sync: object, ndof: int, count: int) -> tuple[np.ndarray, tuple]:
+    codes, names = limited.read_sync(sync, ndof)
+    return np.ascontiguousarray(np.broadcast_to(codes, (count, ndof))), names
 
 
-def _rest_to_rest(
-    start: FloatArray,
-    end: FloatArray,
-    vpos: FloatArray,
-    vneg: FloatArray,
-    apos: FloatArray,
-    aneg: FloatArray,
-    sync: Sync,
-) -> TrapezoidSolution:
-    """The common case, in closed form, computed joint-major.
+def _plan(
+    planner: str, m: FloatArray, sync: object, min_duration: ArrayLike | None, dt: float | None
+) -> tuple[engine.EngineResult, tuple, float | None]:
+    count, _, ndof = m.shape
+    codes, names = _sync_codes(sync, ndof, count)
+    floor = None
+    if min_duration is not None:
+        floor = finite_array("min_duration", min_duration, unit="s")
+        if floor.ndim > 1 or (floor.ndim == 1 and floor.size != count):
+            raise InvalidInputError(f"min_duration must be a number or one per problem ({count})")
+        if np.any(floor <= 0):
+            raise InvalidInputError("min_duration must be > 0 s")
+    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    control = np.zeros((count, ndof), np.int64)
+    result = engine.solve(planner, m, control=control, sync=codes, min_duration=floor, dt=step)
+    return result, names, step
 
-    numpy is several times faster on ``(ndof, B)`` arrays than on ``(B, ndof)``
-    ones: its inner loops then run over the problems instead of over six joints,
-    and the reduction over joints becomes elementwise.
-    """
-    distance = np.ascontiguousarray((end - start).T)
-    joint_major = [
-        limit if limit.ndim < 2 else np.ascontiguousarray(limit.T)
-        for limit in (vpos, vneg, apos, aneg)
-    ]
-    # (ndof,) limits become (ndof, 1); keep symmetric limits the same object.
-    column = {id(x): (x[:, np.newaxis] if x.ndim == 1 else x) for x in joint_major}
-    limits = [column[id(x)] for x in joint_major]
-    own, phases_at = math.rest_plan(distance, *limits)
-    T = own.max(axis=0)
-    target = own if sync is None else T
-    phases = phases_at(target)
-    return TrapezoidSolution(None, None, None, T, own.T, None, phases=phases, joint_major=True)
+
+def _common_info(planner: str, result: engine.EngineResult, names: tuple, step: float | None):
+    return {
+        "planner": planner,
+        "continuity": 1 if result.second_order.any() else 2,
+        "sync": names[0] if len(set(names)) == 1 else names,
+        "dt": step,
+        "minimum_durations": result.own,
+        "limiting_joint": result.limiting,
+        "brake_times": result.t[..., :2],
+    }
 
 
 def trapezoidal(
@@ -343,154 +339,98 @@ def trapezoidal(
     *,
     v0: ArrayLike = 0.0,
     vf: ArrayLike = 0.0,
-    sync: Sync = "time",
+    sync: object = "time",
+    min_duration: ArrayLike | None = None,
     dt: float | None = None,
 ) -> BatchTrajectory:
     """Time-optimal trapezoid profiles for ``B`` problems at once.
 
     Same meaning as :func:`trajkit.trapezoidal` (limit mode), with every argument
     of shape ``(B, ndof)`` or broadcastable to it (limits may be per joint
-    ``(ndof,)``, per problem, or a ``(lower, upper)`` tuple of such arrays).
+    ``(ndof,)``, per problem, or a ``(lower, upper)`` tuple of such arrays);
+    ``min_duration`` one number or one per problem.
 
     Returns
     -------
     BatchTrajectory
         ``durations`` (B,); ``info`` with ``minimum_durations`` (B, ndof),
-        ``limiting_joint`` (B,; -1 under phase sync), ``phase_times`` (B, ndof, 3),
-        ``peak_velocity`` (B, ndof), ``accelerations`` (B, ndof, 2).
+        ``limiting_joint`` (B,), ``phase_times`` (B, ndof, 3), ``peak_velocity``
+        (B, ndof), ``accelerations`` (B, ndof, 2), ``brake_times`` (B, ndof, 2).
     """
-    start, end, start_v, end_v = _problems(q0, qf, v0, vf)
-    shape = start.shape
-    vpos, vneg = _limit_pair("vmax", vmax, shape, "rad/s")
-    apos, aneg = _limit_pair("amax", amax, shape, "rad/s^2")
-    sync = _read_sync(sync)
-    _refuse_fast_boundaries(start_v, end_v, vpos, vneg, shape, "the velocity limit")
-    if sync != "phase" and not start_v.any() and not end_v.any():
-        solution = _rest_to_rest(start, end, vpos, vneg, apos, aneg, sync)
-    else:
-        solution = solve_trapezoid(
-            *_args(start, end, start_v, end_v, vpos, vneg, apos, aneg), sync=sync
-        )
-    start_v, end_v = np.broadcast_to(start_v, shape), np.broadcast_to(end_v, shape)
-    args = _args(start, end, start_v, end_v, vpos, vneg, apos, aneg)
-    step = None
-    if dt is not None:
-        step = positive_scalar("dt", dt, unit="s")
-        solution = quantize_trapezoid(solution, step, args, sync)
-    durations = np.broadcast_to(solution.duration, shape[:1]).copy()
-
-    def plan() -> PhasePlan:
-        return PhasePlan(
-            np.array(start), np.array(start_v), solution.times, solution.accelerations,
-            np.zeros_like(solution.times), np.array(end), np.array(end_v),
-        )  # fmt: skip
+    values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": 0.0, "af": 0.0}
+    m = _matrix("trapezoidal", values, vmax, amax, np.inf)
+    result, names, step = _plan("trapezoidal", m, sync, min_duration, dt)
 
     def info() -> dict[str, Any]:
-        return {
-            "planner": "trapezoidal",
-            "continuity": 1,
-            "sync": sync,
-            "dt": step,
-            "minimum_durations": solution.own,
-            "limiting_joint": solution.limiting,
-            "phase_times": solution.times,
-            "peak_velocity": solution.peak_velocity,
-            "accelerations": solution.accelerations[..., [0, 2]],
+        from trajkit.profiles._kernels.tables import stretches_batch
+
+        times = np.empty((*result.t.shape[:2], 3))
+        accelerations = np.empty((*result.t.shape[:2], 2))
+        ok = np.empty(result.t.shape[:2], np.bool_)
+        engine.run("stretches_batch", stretches_batch, result.t, result.u, times, accelerations, ok)
+        if not ok.all():
+            raise AssertionError("an acceleration-limited profile of more than three stretches")
+        after_brake = m[:, 2] + result.t[..., 0] * result.u[..., 0]
+        return _common_info("trapezoidal", result, names, step) | {
+            "phase_times": times,
+            "peak_velocity": after_brake + times[..., 0] * accelerations[..., 0],
+            "accelerations": accelerations,
         }
 
-    return BatchTrajectory(durations, plan, info)
+    return BatchTrajectory("trapezoidal", m, result, info)
 
 
 def scurve(
     q0: ArrayLike,
     qf: ArrayLike,
-    vmax: ArrayLike,
-    amax: ArrayLike,
+    vmax: LimitSpec,
+    amax: LimitSpec,
     jmax: ArrayLike,
     *,
     v0: ArrayLike = 0.0,
     vf: ArrayLike = 0.0,
-    sync: Sync = "time",
+    a0: ArrayLike = 0.0,
+    af: ArrayLike = 0.0,
+    sync: object = "time",
+    min_duration: ArrayLike | None = None,
     dt: float | None = None,
 ) -> BatchTrajectory:
-    """Time-optimal jerk-limited (double-S) profiles for ``B`` problems at once.
+    """Time-optimal jerk-limited profiles for ``B`` problems at once, state to state.
 
     Same meaning as :func:`trajkit.scurve`, with every argument of shape
-    ``(B, ndof)`` or broadcastable to it; limits are symmetric magnitudes.
+    ``(B, ndof)`` or broadcastable to it (limits may be per joint, per problem, or
+    ``(lower, upper)`` tuples of such arrays); ``min_duration`` one number or one
+    per problem.
 
     Returns
     -------
     BatchTrajectory
         ``durations`` (B,); ``info`` with ``minimum_durations`` (B, ndof),
         ``limiting_joint`` (B,), ``phase_times`` and ``jerks`` (B, ndof, 7),
-        ``peak_velocity`` (B, ndof).
+        ``brake_times`` (B, ndof, 2), ``peak_velocity`` (B, ndof).
     """
-    start, end, start_v, end_v = _problems(q0, qf, v0, vf)
-    shape = start.shape
-    limits = []
-    for name, value, unit in (
-        ("vmax", vmax, "rad/s"),
-        ("amax", amax, "rad/s^2"),
-        ("jmax", jmax, "rad/s^3"),
-    ):
-        if isinstance(value, tuple):
-            raise InvalidInputError(
-                f"{name}: S-curve limits are symmetric magnitudes, not (lower, upper)"
-            )
-        upper, _ = _limit_pair(name, value, shape, unit)
-        limits.append(upper)
-    V, A, J = limits
-    sync = _read_sync(sync)
-    _refuse_fast_boundaries(start_v, end_v, V, V, shape, "vmax")
-    step = None if dt is None else positive_scalar("dt", dt, unit="s")
-    args = (end - start, np.broadcast_to(start_v, shape), np.broadcast_to(end_v, shape), V, A, J)
-    if sync != "phase" and step is None and not start_v.any() and not end_v.any():
-        solution = _scurve_rest_to_rest(start, end, V, A, J, sync)
-    else:
-        solution = solve_scurve(*args, sync=sync)
-        if step is not None:
-            solution = quantize_scurve(solution, step, args, sync)
-    durations = np.broadcast_to(solution.duration, shape[:1]).copy()
-
-    def plan() -> PhasePlan:
-        return PhasePlan(
-            np.array(start), np.array(np.broadcast_to(start_v, shape)), solution.durations,
-            solution.accelerations, solution.jerks, np.array(end),
-            np.array(np.broadcast_to(end_v, shape)), np.zeros(shape),
-        )  # fmt: skip
+    values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": a0, "af": af}
+    m = _matrix("scurve", values, vmax, amax, jmax)
+    result, names, step = _plan("scurve", m, sync, min_duration, dt)
 
     def info() -> dict[str, Any]:
-        return {
-            "planner": "scurve",
-            "continuity": 2,
-            "sync": sync,
-            "dt": step,
-            "minimum_durations": solution.own,
-            "limiting_joint": solution.limiting,
-            "phase_times": solution.durations,
-            "jerks": solution.jerks,
-            "peak_velocity": solution.peak_velocity,
+        from trajkit.profiles._kernels.tables import velocities_at_phases
+
+        v = np.empty(result.t.shape)
+        start = np.ascontiguousarray(m[:, [0, 2, 4]])
+        engine.run(
+            "velocities_at_phases",
+            velocities_at_phases,
+            start,
+            result.t,
+            result.u,
+            result.second_order,
+            v,
+        )
+        return _common_info("scurve", result, names, step) | {
+            "phase_times": result.t[..., 2:],
+            "jerks": np.where(result.second_order[..., np.newaxis], 0.0, result.u[..., 2:]),
+            "peak_velocity": v[..., 2 + 3],
         }
 
-    return BatchTrajectory(durations, plan, info)
-
-
-def _scurve_rest_to_rest(
-    start: FloatArray, end: FloatArray, V: FloatArray, A: FloatArray, J: FloatArray, sync: Sync
-) -> SCurveSolution:
-    """Closed forms, joint-major (see :func:`_rest_to_rest`); phases built lazily."""
-    distance = np.ascontiguousarray((end - start).T)
-    columns = [x[:, np.newaxis] if x.ndim == 1 else np.ascontiguousarray(x.T) for x in (V, A, J)]
-    own, phases_at = scurve_rest_plan(distance, *columns)
-    T = own.max(axis=0)
-    target = own if sync is None else T
-
-    profile = phases_at(target)  # the whole plan: four numbers per joint
-
-    def make() -> tuple[FloatArray, ...]:
-        durations, jerks, peak, accelerations = profile.phases()
-        swap = lambda x: np.swapaxes(x, 0, 1)  # noqa: E731
-        return swap(durations), swap(jerks), peak.T, swap(accelerations)
-
-    limiting = np.argmax(own, axis=0)
-    return SCurveSolution(None, None, None, T, own.T, limiting, make=make)
+    return BatchTrajectory("scurve", m, result, info)

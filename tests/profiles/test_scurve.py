@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, reject, settings
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 # Test files in subfolders do not see tests/ on sys.path by themselves.
@@ -55,17 +55,9 @@ def assert_boundaries(tr: tk.Trajectory, p: dict) -> None:
     support.assert_state(end.acceleration, np.zeros_like(p["q0"]))
 
 
-def subnormal_boundary_velocity(p: dict) -> bool:
-    """A boundary velocity below 1e-200 but not zero: BUG_UNDERFLOW's regime."""
-    speeds = np.abs(np.concatenate([p["v0"], p["vf"]]))
-    return bool(np.any((speeds > 0.0) & (speeds < 1e-200)))
-
-
 @settings(max_examples=60)
 @given(p=problems(moving=True), sync=st.sampled_from(["time", None]))
 def test_boundaries_exact_and_limits_never_exceeded(p, sync):
-    if sync == "time" and subnormal_boundary_velocity(p):
-        reject()  # BUG_UNDERFLOW (test_vanishing_*: pinned as strict xfails)
     tr = plan(p, sync=sync)
     if sync is None:
         # Each joint arrives at its own time; an early one then coasts on at vf.
@@ -183,13 +175,22 @@ def test_info_describes_the_plan():
 @pytest.mark.parametrize(
     ("kwargs", "error", "message"),
     [
-        ({"vmax": -1}, tk.InvalidInputError, "vmax must be > 0"),
-        ({"amax": 0}, tk.InvalidInputError, "amax must be > 0"),
-        ({"jmax": float("nan")}, tk.InvalidInputError, "jmax must be finite"),
-        ({"jmax": None}, tk.InvalidInputError, "missing jmax"),
-        ({"v0": 2.0}, tk.InfeasibleError, "v0=2 rad/s is beyond vmax=1"),
-        ({"vf": -1.5}, tk.InfeasibleError, "vf=-1.5 rad/s is beyond vmax=1"),
-        ({"sync": "fast"}, tk.InvalidInputError, "sync must be 'time', 'phase' or None"),
+        ({"vmax": -1}, tk.InvalidInputError, "vmax limits must be > 0, got -1"),
+        ({"amax": 0}, tk.InvalidInputError, "amax limits must be > 0, got 0"),
+        ({"jmax": float("nan")}, tk.InvalidInputError, "jmax must be > 0 .* got nan rad/s"),
+        ({"jmax": None}, tk.InvalidInputError, "jmax is required"),
+        (
+            {"vf": -1.5},
+            tk.InfeasibleError,
+            r"vf=-1.5 rad/s is beyond the velocity limit -1 rad/s",
+        ),
+        ({"af": 2.0}, tk.InfeasibleError, "af=2 rad/s\\^2 is beyond the acceleration limit 1"),
+        ({"vmax": (1, 2)}, tk.InvalidInputError, "must contain 0"),
+        (
+            {"sync": "fast"},
+            tk.InvalidInputError,
+            "sync must be 'time', 'phase', 'time_if_necessary' or None",
+        ),
         ({"dt": 0}, tk.InvalidInputError, "dt must be > 0"),
         ({"qf": [1, 2, 3], "vmax": [1, 1]}, tk.InvalidInputError, "has 2 joints but qf has 3"),
     ],
@@ -216,9 +217,25 @@ def test_batch_matches_single_problems():
             np.testing.assert_allclose(plans[i].velocity(t), single.velocity(t), atol=1e-12)
 
 
-def test_batch_rejects_asymmetric_limits():
-    with pytest.raises(tk.InvalidInputError, match="symmetric magnitudes"):
-        tk.batch.scurve(np.zeros((2, 1)), np.ones((2, 1)), (-1, 1), 1, 1)
+def test_batch_takes_asymmetric_limits_as_the_single_planner_does():
+    q0, qf = np.zeros((3, 2)), np.array([[1.0, -1.0], [-2.0, 0.5], [0.3, 0.0]])
+    limits = dict(vmax=(-0.5, 1.0), amax=([-1.0, -2.0], [3.0, 1.0]), jmax=[5.0, 9.0])
+    plans = tk.batch.scurve(q0, qf, **limits)
+    for i in range(3):
+        single = tk.scurve(q0[i], qf[i], **limits)
+        assert plans.durations[i] == pytest.approx(single.duration, rel=1e-12)
+        t = np.linspace(0, single.duration, 11)
+        np.testing.assert_allclose(plans[i].velocity(t), single.velocity(t), atol=1e-12)
+
+
+def test_a_start_beyond_the_velocity_limit_is_braked_into_it():
+    tr = tk.scurve(0.0, 1.0, 1.0, 1.0, 1.0, v0=2.0)
+    brake = sum(tr.info["brake_times"][0])
+    assert brake > 0
+    t = np.linspace(brake, tr.duration, 401)
+    assert np.all(np.abs(tr.velocity(t)) <= 1.0 + 1e-12)
+    np.testing.assert_allclose(tr.position(tr.duration), [1.0], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(tr.velocity(tr.duration), [0.0], rtol=0, atol=1e-12)
 
 
 def test_vanishing_time_synchronized_move_stretches_the_faster_joint():
@@ -235,17 +252,8 @@ def test_vanishing_time_synchronized_move_stretches_the_faster_joint():
     assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0, jerk=[1.0, 2.0])).ok
 
 
-BUG_UNDERFLOW = pytest.mark.xfail(
-    strict=True,
-    raises=tk.InfeasibleError,
-    reason="BUG: a joint that stays put but must start or end at a vanishing speed (2e-224, "
-    "1e-308 rad/s): the fixed-duration search underflows and time sync finds no common "
-    "duration",
-)
-
-
-@BUG_UNDERFLOW
 def test_vanishing_end_velocity_of_a_still_joint():
+    # The old engine's fixed-duration search underflowed here (no common duration).
     tr = tk.scurve(
         np.zeros(2), np.array([3.02609591e-220, 0.0]), vmax=1.0, amax=1.0, jmax=1.0,
         vf=np.array([0.0, 2.28217495e-224]), sync="time",
@@ -253,7 +261,6 @@ def test_vanishing_end_velocity_of_a_still_joint():
     assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0, jerk=1.0)).ok
 
 
-@BUG_UNDERFLOW
 def test_vanishing_start_velocity_of_a_still_joint():
     # Found by the derandomized CI profile of test_boundaries_exact_and_limits_never_exceeded.
     tr = tk.scurve(

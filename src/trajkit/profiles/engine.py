@@ -127,6 +127,7 @@ _PHASES = 9  # tables.PHASES
 _OUT_SIZE = 4  # synchronize.OUT_SIZE; fields: duration, limiting joint, phase held, joint
 _OK, _STEP1_FAILED, _ZERO_LIMITS, _SYNC_FAILED, _STEP2_FAILED = 0, 1, 2, 3, 4
 _GRID_FAILED, _VELOCITY_UNSUPPORTED = 5, 6  # quantize.GRID_FAILED, VELOCITY_UNSUPPORTED
+_UNRESOLVED = 7  # solve.UNRESOLVED
 _MAX_EXTRA_PERIODS = 16  # quantize.MAX_EXTRA_PERIODS
 
 
@@ -305,11 +306,35 @@ def _failure(
             f"{planner}: the velocity interface puts only the duration on the period "
             f"grid{where}; pass grid='duration'"
         )
+    if code == _UNRESOLVED:
+        duration = float(out[0])
+        return InfeasibleError(
+            f"{planner}: the motion lasts {duration:.6g} s, too long to keep its short phases "
+            f"in absolute time (float64 resolves about {duration * 2.2e-16:.2g} s there), so "
+            f"it would miss its target{where}; plan it in larger time units (scale the "
+            "limits) or in parts"
+        )
     if code == _SYNC_FAILED:
         return InfeasibleError(
             f"{planner}: no common duration suits every synchronized joint{where}; "
             "leave some out of synchronization (sync=None for them)"
         )
+    if code == _STEP1_FAILED and joint >= 0:
+        q0, qf, *_, v_min, v_max, a_min, a_max, j_max = (float(x) for x in m[:, joint])
+        cruise = abs(qf - q0) / min(v_max, -v_min)
+        push = min(a_max, -a_min)
+        ramp, what = (
+            (push / j_max, "acceleration")
+            if j_max < np.inf
+            else (min(v_max, -v_min) / push, "velocity")
+        )
+        if cruise * 2.2e-16 > ramp:
+            return InfeasibleError(
+                f"{planner}: joint {joint + 1}{where} needs about {cruise:.3g} s at its velocity "
+                f"limit but ramps its {what} in {ramp:.3g} s: beyond what float64 "
+                "resolves in one motion; plan it in larger time units (scale the limits) or "
+                "in parts"
+            )
     step = "fastest profile" if code == _STEP1_FAILED else "profile of the common duration"
     return InfeasibleError(
         f"{planner}: the engine found no {step} for joint {joint + 1}{where} (a numerical failure "

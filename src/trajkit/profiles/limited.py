@@ -121,16 +121,16 @@ def _v_at_a_zero(v: FloatArray, a: FloatArray, j: FloatArray) -> FloatArray:
 
 def _check_target(p: Problem) -> None:
     """Refuse a target state beyond the limits, or one that cannot be arrived at."""
-    for name, value, low, high, unit in (
-        ("vf", p.vf, p.v_min, p.v_max, "rad/s"),
-        ("af", p.af, p.a_min, p.a_max, "rad/s^2"),
+    for name, value, low, high, unit, quantity in (
+        ("vf", p.vf, p.v_min, p.v_max, "rad/s", "velocity"),
+        ("af", p.af, p.a_min, p.a_max, "rad/s^2", "acceleration"),
     ):
         bad = np.flatnonzero((value > high) | (value < low))
         if bad.size:
             j = bad[0]
             bound = high[j] if value[j] > 0 else low[j]
             raise InfeasibleError(
-                f"{name}={value[j]:.6g} {unit} is beyond the limit {bound:.6g} {unit} "
+                f"{name}={value[j]:.6g} {unit} is beyond the {quantity} limit {bound:.6g} {unit} "
                 f"(joint {j + 1})"
             )
     # Arriving while decelerating means having been faster just before.
@@ -249,7 +249,10 @@ def read_problem(
     ndof = count_dof(q0=q0, qf=qf, v0=v0, vf=vf, a0=a0, af=af)
     for name, spec in (("vmax", vmax), ("amax", amax), ("jmax", jmax)):
         if spec is None:
-            raise InvalidInputError(f"{planner} needs {name}")
+            raise InvalidInputError(
+                f"{name} is required: {planner} needs a number, one per joint or a "
+                "(lower, upper) tuple"
+            )
         if not isinstance(spec, tuple):
             ndof = max(ndof, count_dof(q0=q0, qf=qf, v0=v0, vf=vf, **{name: spec}))
     start = joint_vector("q0", q0, ndof, unit="rad")
@@ -403,6 +406,13 @@ class LazyInfo(Mapping):
         return f"mappingproxy({self._items()!r})"
 
 
+PHASE_FALLBACK = (
+    "phase synchronization is impossible for this move (the joints' boundary velocities "
+    "and accelerations are not all parallel to it, or the shared law would break a "
+    "joint's limits): the joints are time-synchronized instead"
+)
+
+
 def plan_info(
     planner: str, p: Problem, result: engine.EngineResult, dt: float | None
 ) -> dict[str, Any]:
@@ -429,6 +439,8 @@ def plan_info(
     }
     if "phase" in p.sync_names:
         info["phase_synchronized"] = bool(result.phase_synchronized)
+        if not result.phase_synchronized:
+            info["phase_note"] = PHASE_FALLBACK
     return info
 
 

@@ -63,6 +63,7 @@ from trajkit.profiles._kernels.profile import (
     copy_boundary,
     duration,
     no_blocks,
+    power_of_two,
     set_times,
 )
 
@@ -76,6 +77,10 @@ def _accept(valid, count, limits, a_up, a_down, v_max, v_min):
     """
     row = valid[count]
     if not check_second_order(row, UDDU, limits, a_up, a_down, v_max, v_min):
+        return count
+    if row[T_SUM + 6] == 0.0 and (row[PF] != row[P] or row[VF] != row[V]):
+        # No time to change the state: a rounding of a ramp to nothing, which the
+        # position tolerance (1e-8 absolute) would accept as reaching the target.
         return count
     count += 1
     if count < valid.shape[0]:
@@ -97,15 +102,6 @@ def _accept(valid, count, limits, a_up, a_down, v_max, v_min):
 
 
 @njit(cache=True, error_model="numpy")
-def _power_of_two(x):
-    """The power of two nearest ``x`` (1 for ``x`` zero, negative or not finite)."""
-    if not (x > 0.0) or not math.isfinite(x):
-        return 1.0
-    _, exponent = math.frexp(x)
-    return math.ldexp(1.0, max(-1000, min(1000, exponent - 1)))
-
-
-@njit(cache=True, error_model="numpy")
 def _scalable(x):
     """Whether a limit stays a usable number in new units (zero and inf do)."""
     return x == 0.0 or math.isinf(x) or 1e-300 < abs(x) < 1e300
@@ -117,8 +113,8 @@ def _units(duration, size, v_max, v_min, a_max, a_min):
 
     ``(1, 1)`` where a limit would leave the range of normal numbers.
     """
-    tau = _power_of_two(duration)
-    lam = _power_of_two(size)
+    tau = power_of_two(duration)
+    lam = power_of_two(size)
     v = tau / lam
     a = v * tau
     if not (
@@ -463,7 +459,7 @@ def _fastest_fallback(prof, v_max, v_min, a_max, a_min, valid, block, block_time
         estimate = distance / speed
     if push > 0.0:
         estimate = max(estimate, math.sqrt(distance / push), change / push)
-    tau = _power_of_two(estimate)
+    tau = power_of_two(estimate)
     tau, lam = _units(
         estimate,
         max(distance, abs(v0) * tau, abs(vf) * tau),

@@ -463,3 +463,16 @@ def no_blocks(block_times):
     """Mark both blocked intervals absent (a single profile blocks nothing)."""
     for k in range(1, 5):
         block_times[k] = math.inf
+
+
+@njit(cache=True, error_model="numpy")
+def power_of_two(x):
+    """The power of two nearest ``x`` (1 for ``x`` zero, negative or not finite).
+
+    Rescaling by a power of two is exact, subnormal ones included, so a length down
+    to the smallest subnormal (2**-1074) gets a unit in which it is ordinary.
+    """
+    if not (x > 0.0) or not math.isfinite(x):
+        return 1.0
+    _, exponent = math.frexp(x)
+    return math.ldexp(1.0, max(-1074, min(1000, exponent - 1)))

@@ -12,6 +12,9 @@ from trajkit.profiles._kernels import profile, quantize, synchronize, tables
 from trajkit.profiles._kernels.admissible import J_MAX
 from trajkit.profiles._kernels.layout import BRAKE_DURATION, SIZE, T_SUM
 
+# Status of one(): the plan is found but its pieces cannot keep it in absolute time.
+UNRESOLVED = 7
+
 
 @njit(cache=True, error_model="numpy")
 def _plan(m, control, sync, enabled, min_duration, dt, switches, records, own, out):
@@ -65,6 +68,8 @@ def one(
     count = tables.pieces(
         start, target, t, u, second, out[synchronize.OUT_DURATION], breakpoints, coefficients, end
     )
+    if count < 0:
+        return UNRESOLVED, -count
     return status, count
 
 

@@ -64,6 +64,7 @@ from trajkit.profiles._kernels.layout import (
 from trajkit.profiles._kernels.profile import (
     finalize_brake,
     finalize_brake_second_order,
+    power_of_two,
     set_boundary,
 )
 
@@ -159,15 +160,17 @@ def _step2_raw(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
 # Problems whose time or length scale lies outside this range are planned in rescaled units.
 _ORDINARY_LOW = 2.0**-10
 _ORDINARY_HIGH = 2.0**10
+# ... and planned in rescaled units first beyond this range.
+_EXTREME_LOW = 2.0**-40
+_EXTREME_HIGH = 2.0**40
 
 
 @njit(cache=True, error_model="numpy")
-def _power_of_two(x):
+def _ordinary_unit(x):
     """The power of two nearest ``x > 0`` (1 for ordinary ``x``)."""
-    if not (x > 0.0) or not math.isfinite(x) or _ORDINARY_LOW <= x <= _ORDINARY_HIGH:
+    if _ORDINARY_LOW <= x <= _ORDINARY_HIGH:
         return 1.0
-    _, exponent = math.frexp(x)
-    return math.ldexp(1.0, max(-1000, min(1000, exponent - 1)))
+    return power_of_two(x)
 
 
 @njit(cache=True, error_model="numpy")
@@ -197,9 +200,9 @@ def _units(pd, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max):
             math.sqrt(change / j_max),
             max(abs(a0), abs(af)) / j_max,
         )
-    tau = _power_of_two(duration)
+    tau = _ordinary_unit(duration)
     size = max(distance, abs(v0) * tau, abs(vf) * tau, abs(a0) * tau * tau, abs(af) * tau * tau)
-    lam = _power_of_two(size)
+    lam = _ordinary_unit(size)
     if tau == 1.0 and lam == 1.0:
         return 1.0, 1.0
     # The limits in the new units must stay finite and normal (an infinite jerk
@@ -218,33 +221,51 @@ def _units(pd, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max):
 
 
 @njit(cache=True, error_model="numpy")
-def _rescale(prof, tau, lam, origin, new_origin):
+def _rescale(prof, tau, lam, origin, new_origin, inverse=False):
     """A record in units ``tau`` times and ``lam`` times larger, positions about ``origin``.
 
     Times are multiplied by ``tau``, lengths by ``lam`` (velocities by ``lam /
-    tau``...): the same motion described in other units.
+    tau``...): the same motion described in other units. ``inverse`` divides
+    instead (the reciprocal of a subnormal unit would overflow).
     """
     v = lam / tau
     a = v / tau
     j = a / tau
+    if inverse:
+        tau, lam, v, a, j = 1.0 / tau, lam, 1.0 / v, 1.0 / a, 1.0 / j
     for i in range(7):
         prof[T + i] *= tau
         prof[T_SUM + i] *= tau
         prof[J + i] *= j
     for i in range(8):
-        prof[P + i] = new_origin + (prof[P + i] - origin) * lam
+        prof[P + i] = new_origin + _scaled(prof[P + i] - origin, lam, inverse)
         prof[V + i] *= v
         prof[A + i] *= a
-    prof[PF] = new_origin + (prof[PF] - origin) * lam
+    prof[PF] = new_origin + _scaled(prof[PF] - origin, lam, inverse)
     prof[REC_VF] *= v
     prof[REC_AF] *= a
     prof[BRAKE_DURATION] *= tau
     for k in range(2):
         prof[BRAKE_T + k] *= tau
-        prof[BRAKE_P + k] = new_origin + (prof[BRAKE_P + k] - origin) * lam
+        prof[BRAKE_P + k] = new_origin + _scaled(prof[BRAKE_P + k] - origin, lam, inverse)
         prof[BRAKE_V + k] *= v
         prof[BRAKE_A + k] *= a
         prof[BRAKE_J + k] *= j
+
+
+@njit(cache=True, error_model="numpy")
+def _scaled(x, factor, inverse):
+    return x / factor if inverse else x * factor
+
+
+@njit(cache=True, error_model="numpy")
+def _jumps(minimum, p0, v0, a0, pf, vf, af):
+    """Whether a joint's fastest profile (``minimum`` s long) takes no time to change the state.
+
+    The laws accept moves below their absolute precision (1e-8) as done at once; in
+    the move's own units they get a true profile.
+    """
+    return minimum == 0.0 and (pf != p0 or vf != v0 or af != a0)
 
 
 @njit(cache=True, error_model="numpy")
@@ -268,32 +289,53 @@ def _step1(
 ):
     """Brake, then the fastest profile and blocked intervals of one joint (any scale).
 
-    The laws are tried as given first (so ordinary problems are planned as the
-    reference plans them); where they fail, again in units that make the problem
-    ordinary (:func:`_units`).
+    Ordinary problems are tried as given first (so they are planned as the
+    reference plans them), then in units that make them ordinary (:func:`_units`);
+    extreme ones (a unit beyond 2**40), whose answers the laws' absolute tolerances
+    would accept at any precision, the other way round.
     """
-    if _step1_raw(
-        prof,
-        p0,
-        v0,
-        a0,
-        pf,
-        vf,
-        af,
-        v_max,
-        v_min,
-        a_max,
-        a_min,
-        j_max,
-        control,
-        valid,
-        block,
-        block_times,
+    args = (p0, v0, a0, pf, vf, af, v_max, v_min, a_max, a_min, j_max, control)
+    tau, lam = _units(pf - p0, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max)
+    scaled = not (tau == 1.0 and lam == 1.0)
+    if _extreme(tau, lam):
+        if _step1_in_units(prof, tau, lam, *args, valid, block, block_times):
+            return True
+        return _step1_raw(prof, *args, valid, block, block_times)
+    if _step1_raw(prof, *args, valid, block, block_times) and not _jumps(
+        block_times[0], p0, v0, a0, pf, vf, af
     ):
         return True
-    tau, lam = _units(pf - p0, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max)
-    if tau == 1.0 and lam == 1.0:
-        return False
+    return scaled and _step1_in_units(prof, tau, lam, *args, valid, block, block_times)
+
+
+@njit(cache=True, error_model="numpy")
+def _extreme(tau, lam):
+    """Whether units are far enough from 1 that a problem is planned in them first."""
+    return not (_EXTREME_LOW <= tau <= _EXTREME_HIGH and _EXTREME_LOW <= lam <= _EXTREME_HIGH)
+
+
+@njit(cache=True, error_model="numpy")
+def _step1_in_units(
+    prof,
+    tau,
+    lam,
+    p0,
+    v0,
+    a0,
+    pf,
+    vf,
+    af,
+    v_max,
+    v_min,
+    a_max,
+    a_min,
+    j_max,
+    control,
+    valid,
+    block,
+    block_times,
+):
+    """:func:`_step1_raw` in units ``tau`` (s), ``lam``; the records back in the caller's."""
     v = tau / lam
     a = v * tau
     j = j_max * a * tau if math.isfinite(j_max) else j_max
@@ -320,19 +362,17 @@ def _step1(
         _rescale(block[k], tau, lam, 0.0, p0)
     for k in range(5):
         block_times[k] *= tau
-    return found
+    return found and not _jumps(block_times[0], p0, v0, a0, pf, vf, af)
 
 
 @njit(cache=True, error_model="numpy")
 def _step2(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
     """Re-plan one joint (its boundary and brake already in ``prof``) to take ``tf``.
 
-    As given first, then in ordinary units (see :func:`_step1`).
+    As given first, then in ordinary units; extreme problems the other way round
+    (see :func:`_step1`).
     """
     original = prof.copy()
-    if _step2_raw(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
-        return True
-    prof[:] = original
     p0 = prof[P]
     tau, lam = _units(
         prof[PF] - p0,
@@ -346,17 +386,34 @@ def _step2(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
         a_min,
         j_max,
     )
-    if tau == 1.0 and lam == 1.0:
+    scaled = not (tau == 1.0 and lam == 1.0)
+    if scaled and _extreme(tau, lam):
+        if _step2_in_units(prof, tf, tau, lam, v_max, v_min, a_max, a_min, j_max, control):
+            return True
+        prof[:] = original
+        if _step2_raw(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
+            return True
+        prof[:] = original
         return False
-    origin = prof[BRAKE_P] if prof[BRAKE_DURATION] > 0.0 else p0
-    _rescale(prof, 1.0 / tau, 1.0 / lam, origin, 0.0)
+    if _step2_raw(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
+        return True
+    prof[:] = original
+    if scaled and _step2_in_units(prof, tf, tau, lam, v_max, v_min, a_max, a_min, j_max, control):
+        return True
+    prof[:] = original
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def _step2_in_units(prof, tf, tau, lam, v_max, v_min, a_max, a_min, j_max, control):
+    """:func:`_step2_raw` in units ``tau`` (s), ``lam``; the record back in the caller's."""
+    origin = prof[BRAKE_P] if prof[BRAKE_DURATION] > 0.0 else prof[P]
+    _rescale(prof, tau, lam, origin, 0.0, True)
     v = tau / lam
     a = v * tau
     j = j_max * a * tau if math.isfinite(j_max) else j_max
     found = _step2_raw(prof, tf / tau, v_max * v, v_min * v, a_max * a, a_min * a, j, control)
     _rescale(prof, tau, lam, 0.0, origin)
-    if not found:
-        prof[:] = original
     return found
 
 
@@ -499,6 +556,13 @@ def _phase_law(m, control, sync, enabled, scale, law):
         scale[d] = 0.0
         if sync[d] == SYNC_PHASE and enabled[d] != 0 and control[d] == POSITION:
             scale[d] = m[QF, d] - m[Q0, d] if row == 0 else m[row, d]
+    # Scales far from 1 (a subnormal move, one of 1e300) would overflow the law's
+    # limits (a joint's limit over its scale); in a power-of-two unit they stay
+    # ordinary and the law's own move takes the extreme magnitude instead.
+    unit = _ordinary_unit(abs(scale[reference]))
+    if unit != 1.0:
+        for d in range(ndof):
+            scale[d] /= unit
     c_ref = scale[reference]
     ratios = (
         (m[QF, reference] - m[Q0, reference]) / c_ref,

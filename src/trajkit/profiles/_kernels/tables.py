@@ -86,8 +86,9 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
     ``coefficients`` (4, m, ndof) (local power basis, highest power first) and
     ``end`` (3, ndof): the exact target state where the pieces reach it up to
     rounding, NaN where the polynomial's own value must stand (a joint still
-    coasting at the end, a trapezoid's acceleration, an unresolvable plan). The
-    arrays must hold ``PHASES * ndof + 2`` breakpoints.
+    coasting at the end, a trapezoid's acceleration). The arrays must hold
+    ``PHASES * ndof + 2`` breakpoints. A negative count ``-m`` says the pieces miss
+    a target (the motion is too long for its shortest phases in absolute time).
     """
     ndof = start.shape[1]
     starts = np.empty((ndof, PHASES))
@@ -136,7 +137,8 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
             coefficients[1, k, d] = (a + j * x) / 2.0
             coefficients[2, k, d] = v + x * (a + x * j / 2.0)
             coefficients[3, k, d] = p + x * (v + x * (a / 2.0 + x * j / 6.0))
-    _end_state(target, breakpoints, coefficients, m, finish, duration, second, end)
+    if not _end_state(target, breakpoints, coefficients, m, finish, duration, second, end):
+        return -m
     return m
 
 
@@ -156,8 +158,12 @@ def _state_before(d, middle, left, t, starts, states, finish, target):
 
 @njit(cache=True, error_model="numpy")
 def _end_state(target, breakpoints, coefficients, m, finish, duration, second, end):
-    """The exact end state where the pieces agree with it (Trajectory's tolerance)."""
+    """The exact end state where the pieces agree with it (Trajectory's tolerance).
+
+    Returns False where they disagree with a target they must reach.
+    """
     ndof = target.shape[1]
+    resolved = True
     h = breakpoints[m] - breakpoints[m - 1]
     for d in range(ndof):
         c3 = coefficients[0, m - 1, d]
@@ -193,8 +199,12 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
             ):
                 value = math.nan  # still coasting at its target velocity, elsewhere
             if abs(value - values[order]) > BOUNDARY_RTOL * scale + BOUNDARY_ATOL:
+                # The pieces lost the target: phases too short for absolute time at
+                # this duration (breakpoints resolve about 2e-16 of it) were merged.
+                resolved = False
                 value = math.nan
             end[order, d] = value
+    return resolved
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
