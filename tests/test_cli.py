@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import trajkit as tk
+from trajkit import cli
 from trajkit.cli import main
 
 
@@ -71,7 +72,7 @@ def test_plan_quintic_boundary_accelerations(capsys, tmp_path):
         (["plan", "cubic", "--q0", "0", "0", "--qf", "1", "1", "1", "--duration", "1"],
          "qf has 3 joints but q0 has 2"),
         (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--a0", "1"],
-         "--a0/--af need a quintic or septic profile"),
+         "--a0/--af need a quintic, septic or scurve profile"),
         (["plan", "cubic", "--qf", "1", "--duration", "1"], "plan needs --q0 and --qf"),
         (["plan", "cubic", "--q0", "x", "--qf", "1"], "expected numbers"),
         (["plan", "trapezium", "--q0", "0", "--qf", "1"], "invalid choice"),
@@ -266,6 +267,84 @@ def test_plan_scurve_needs_all_three_limits(capsys):
     status, _, err = run(capsys, "plan", "scurve", "--q0", "0", "--qf", "1", "--vmax", "1")
     assert status == 2
     assert "scurve needs vmax, amax and jmax; missing amax, jmax" in err
+
+
+SCURVE_ARGS = ("--q0", "0,0.5", "--qf", "1,-0.5", "--vmax", "1", "--amax", "2")
+
+
+@pytest.mark.parametrize(
+    ("profile", "argv", "kwargs"),
+    [
+        ("scurve", ["--a0", "0.5,-0.2", "--af=-0.3,0.2"],
+         {"a0": [0.5, -0.2], "af": [-0.3, 0.2]}),
+        ("scurve", ["--a0", "20", "--deg"], {"a0": np.radians(20), "deg": True}),
+        ("scurve", ["--min-duration", "3.5"], {"min_duration": 3.5}),
+        ("trapezoid", ["--min-duration", "3.5"], {"min_duration": 3.5}),
+        ("scurve", ["--sync", "time_if_necessary"], {"sync": "time_if_necessary"}),
+        ("trapezoid", ["--sync", "time_if_necessary", "--vf", "0.2,0"],
+         {"sync": "time_if_necessary", "vf": [0.2, 0.0]}),
+        ("scurve", ["--grid", "duration", "--dt", "0.01"], {"grid": "duration", "dt": 0.01}),
+        ("trapezoid", ["--grid", "duration", "--dt", "0.01", "--min-duration", "2.345"],
+         {"grid": "duration", "dt": 0.01, "min_duration": 2.345}),
+        ("scurve", ["--grid", "switches", "--dt", "0.01"], {"grid": "switches", "dt": 0.01}),
+    ],
+)  # fmt: skip
+def test_plan_trapezoid_and_scurve_options_reach_the_planner(profile, argv, kwargs, capsys,
+                                                             monkeypatch):  # fmt: skip
+    planned, original = [], cli.PLANNERS[profile]
+
+    def spy(*args, **options):
+        planned.append(original(*args, **options))
+        return planned[-1]
+
+    monkeypatch.setitem(cli.PLANNERS, profile, spy)
+    jerk = ["--jmax", "10"] if profile == "scurve" else []
+    status, out, err = run(capsys, "plan", profile, *SCURVE_ARGS, *jerk, *argv)
+    assert status == 0, err
+    kwargs = dict(kwargs)
+    scale = np.radians(1.0) if kwargs.pop("deg", False) else 1.0
+    ends = (np.array([0.0, 0.5]) * scale, np.array([1.0, -0.5]) * scale)
+    limits = (1.0 * scale, 2.0 * scale, *([10.0 * scale] if jerk else []))
+    planner = {"trapezoid": tk.trapezoidal, "scurve": tk.scurve}[profile]
+    direct = planner(*ends, *limits, **kwargs)
+    assert planned[0].duration == pytest.approx(direct.duration, rel=1e-12)
+    t = np.linspace(0.0, direct.duration, 41)
+    np.testing.assert_allclose(planned[0].position(t), direct.position(t), rtol=0, atol=1e-12)
+    assert f"duration {direct.duration:.9g} s" in out
+    if kwargs.get("grid") == "duration":
+        assert "duration a multiple of dt=0.01 s" in out.splitlines()[0]
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["cubic", "--duration", "1", "--min-duration", "2"],
+         "--min-duration applies to trapezoid and scurve profiles, not cubic"),
+        (["quintic", "--duration", "1", "--grid", "duration", "--dt", "0.01"],
+         "--grid applies to trapezoid and scurve profiles, not quintic"),
+        (["trapezoid", "--vmax", "1", "--amax", "2", "--a0", "0.1"],
+         "--a0/--af need a quintic, septic or scurve profile, not trapezoid"),
+        (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--duration", "3",
+          "--min-duration", "2"],
+         "give --duration (exact) or --min-duration (a floor), not both"),
+        (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--min-duration", "0"],
+         "min_duration must be > 0"),
+        (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--grid", "duration"],
+         "--grid needs --dt"),
+        (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--grid", "ticks"],
+         "argument --grid: invalid choice: 'ticks'"),
+        (["trapezoid", "--vmax", "1", "--amax", "2", "--sync", "sometimes"],
+         "argument --sync: invalid choice: 'sometimes'"),
+        (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--af", "3"],
+         "af=3 rad/s^2 is beyond"),
+    ],
+)  # fmt: skip
+def test_plan_trapezoid_and_scurve_option_errors(argv, message, capsys):
+    status, out, err = run(capsys, "plan", argv[0], "--q0", "0", "--qf", "1", *argv[1:])
+    assert status == 2
+    assert err.startswith("trajkit: error: ") and err.count("\n") == 1, err
+    assert message in err
+    assert out == ""
 
 
 # --------------------------------------------------------------------- mobile

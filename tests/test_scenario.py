@@ -203,6 +203,117 @@ def test_a_failing_plan_writes_nothing(tmp_path):
     assert os.listdir(tmp_path) == []
 
 
+# Trapezoid and S-curve options: each reaches the planner ------------------------------
+MOVE = """
+name = "move"
+[task]
+kind = "joint_move"
+q0 = [0.0, 0.5]
+qf = [1.0, -0.5]
+profile = "scurve"
+[limits]
+velocity = 1.0
+acceleration = 2.0
+jerk = 10.0
+[outputs]
+csv = false
+plot = false
+"""
+MOVE_ENDS = ([0.0, 0.5], [1.0, -0.5])
+MOVE_LIMITS = {"trapezoid": (1.0, 2.0), "scurve": (1.0, 2.0, 10.0)}
+PERIOD = "[controller]\nperiod = 0.01\n"
+
+
+@pytest.mark.parametrize(
+    ("profile", "keys", "controller", "kwargs"),
+    [
+        ("scurve", "a0 = [0.5, -0.2]\naf = [-0.3, 0.2]", "",
+         {"a0": [0.5, -0.2], "af": [-0.3, 0.2]}),
+        ("scurve", "a0_deg = 20\naf_deg = [-10, 5]", "",
+         {"a0": np.radians(20), "af": np.radians([-10, 5])}),
+        ("scurve", "min_duration = 3.5", "", {"min_duration": 3.5}),
+        ("trapezoid", "min_duration = 3.5", "", {"min_duration": 3.5}),
+        ("scurve", 'sync = "time_if_necessary"', "", {"sync": "time_if_necessary"}),
+        ("trapezoid", 'sync = "time_if_necessary"\nvf = [0.2, 0]', "",
+         {"sync": "time_if_necessary", "vf": [0.2, 0.0]}),
+        ("scurve", 'grid = "duration"', PERIOD, {"grid": "duration", "dt": 0.01}),
+        ("trapezoid", 'grid = "duration"\nmin_duration = 2.345', PERIOD,
+         {"grid": "duration", "min_duration": 2.345, "dt": 0.01}),
+        ("scurve", 'grid = "switches"', PERIOD, {"grid": "switches", "dt": 0.01}),
+    ],
+)  # fmt: skip
+def test_trapezoid_and_scurve_options_reach_the_planner(profile, keys, controller, kwargs,
+                                                        tmp_path):  # fmt: skip
+    text = MOVE.replace('profile = "scurve"', f'profile = "{profile}"\n{keys}') + controller
+    if profile == "trapezoid":
+        text = text.replace("jerk = 10.0\n", "")
+    outcome = scenario.execute(scenario.parse(text), tmp_path, log=len)
+    planner = {"trapezoid": tk.trapezoidal, "scurve": tk.scurve}[profile]
+    direct = planner(*MOVE_ENDS, *MOVE_LIMITS[profile], **kwargs)
+    assert outcome.plan.duration == pytest.approx(direct.duration, rel=1e-12)
+    t = np.linspace(0.0, direct.duration, 41)
+    np.testing.assert_allclose(outcome.plan.position(t), direct.position(t), rtol=0, atol=1e-12)
+    if "min_duration" in kwargs:
+        assert outcome.plan.duration >= kwargs["min_duration"]
+    if kwargs.get("grid") == "duration":
+        ticks = outcome.plan.duration / 0.01
+        assert ticks == pytest.approx(round(ticks), abs=1e-6)
+
+
+@pytest.mark.parametrize("profile", ["quintic", "septic"])
+def test_polynomial_moves_take_their_boundary_accelerations(profile, tmp_path):
+    text = MOVE.replace('profile = "scurve"', f'profile = "{profile}"\nduration = 4.0\n'
+                        "a0 = 0.5\naf = [-0.25, 0.1]")  # fmt: skip
+    outcome = scenario.execute(scenario.parse(text), tmp_path, log=len)
+    np.testing.assert_allclose(outcome.plan.start_state.acceleration, [0.5, 0.5], atol=1e-12)
+    np.testing.assert_allclose(outcome.plan.end_state.acceleration, [-0.25, 0.1], atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (('profile = "scurve"', 'profile = "cubic"\nmin_duration = 2'),
+         "task.min_duration: applies to trapezoid and scurve profiles, not cubic"),
+        (('profile = "scurve"', 'profile = "quintic"\ngrid = "duration"'),
+         "task.grid: applies to trapezoid and scurve profiles, not quintic"),
+        (('profile = "scurve"', 'profile = "trapezoid"\naf = 0.1'),
+         "task.af: applies to quintic, septic and scurve profiles, not trapezoid"),
+        (('profile = "scurve"', 'profile = "cubic"\na0_deg = 1'),
+         "task.a0_deg: applies to quintic, septic and scurve profiles, not cubic"),
+        (('profile = "scurve"', 'profile = "scurve"\nduration = 3\nmin_duration = 2'),
+         "task.min_duration: give duration (exact) or min_duration (a floor), not both"),
+        (('profile = "scurve"', 'profile = "scurve"\nmin_duration = 0'),
+         "task.min_duration: expected a number > 0, got 0"),
+        (('profile = "scurve"', 'profile = "scurve"\ngrid = "ticks"'),
+         "task.grid: expected one of 'switches', 'duration', got 'ticks'"),
+        (('profile = "scurve"', 'profile = "scurve"\ngrid = "duration"'),
+         "task.grid: only used with a controller period ([controller] period)"),
+        (('profile = "scurve"', 'profile = "scurve"\nsync = "sometimes"'),
+         "task.sync: expected one of 'time', 'phase', 'time_if_necessary', 'none', got "
+         "'sometimes'"),
+        (('profile = "scurve"', 'profile = "scurve"\na0 = [1, 2, 3]'),
+         "task.a0: expected 2 numbers, got 3"),
+        (('profile = "scurve"', 'profile = "scurve"\naf = "up"'),
+         "task.af: expected 2 numbers, got a string"),
+    ],
+)  # fmt: skip
+def test_trapezoid_and_scurve_option_errors_name_the_key(change, message):
+    with pytest.raises(ScenarioError) as caught:
+        scenario.parse(MOVE.replace(*change))
+    assert message in str(caught.value)
+
+
+def test_an_infeasible_end_acceleration_is_one_line_at_the_command_line(tmp_path, capsys):
+    path = tmp_path / "move.toml"
+    path.write_text(MOVE.replace('profile = "scurve"', 'profile = "scurve"\naf = 3.0'),
+                    encoding="utf-8")  # fmt: skip
+    status = main(["run", str(path), "--out", str(tmp_path / "out")])
+    captured = capsys.readouterr()
+    assert status == 2 and captured.out == ""
+    assert captured.err.startswith("trajkit: error: task: af=3 rad/s^2 is beyond")
+    assert captured.err.count("\n") == 1
+
+
 # Fuzzing: malformed values anywhere only ever raise the documented error -------------
 VALUES = st.recursive(
     st.none() | st.booleans() | st.integers(-10**6, 10**6) | st.text(max_size=8)

@@ -47,7 +47,7 @@ PROFILES: dict[str, frozenset[str]] = {
     "quintic": frozenset({"a0"}),
     "septic": frozenset({"a0"}),
     "trapezoid": frozenset({"sync"}),
-    "scurve": frozenset({"sync", "jmax"}),
+    "scurve": frozenset({"sync", "jmax", "a0"}),
 }
 for _name in ("cubic", "quintic", "septic"):
     PROFILES[_name] |= {"jmax"}
@@ -107,23 +107,33 @@ def _build_parser() -> _Parser:
     )
     _add_vector(plan, "--v0", "start velocities (default 0)")
     _add_vector(plan, "--vf", "end velocities (default 0)")
-    _add_vector(plan, "--a0", "start accelerations, quintic/septic (default 0)")
-    _add_vector(plan, "--af", "end accelerations, quintic/septic (default 0)")
+    plan.add_argument(
+        "--min-duration", type=float, help="trapezoid/scurve: move time at least this (s)"
+    )
+    _add_vector(plan, "--a0", "start accelerations, quintic/septic/scurve (default 0)")
+    _add_vector(plan, "--af", "end accelerations, quintic/septic/scurve (default 0)")
     _add_vector(plan, "--vmax", "velocity limits (rad/s, or deg/s with --deg)")
     _add_vector(plan, "--amax", "acceleration limits")
     _add_vector(plan, "--jmax", "jerk limits")
     plan.add_argument("--deg", action="store_true", help="angles and limits in degrees")
     plan.add_argument(
         "--sync",
-        choices=["time", "phase", "none"],
+        choices=["time", "phase", "time_if_necessary", "none"],
         default="time",
-        help="trapezoid/scurve: finish together (time), move on a line (phase), or not",
+        help="trapezoid/scurve: finish together (time), move on a line (phase), together "
+        "unless ending at rest (time_if_necessary), or not",
     )
     plan.add_argument(
         "--dt",
         type=float,
         help="controller period in s: trapezoid/scurve switching times become multiples of "
         "it; also the --csv sampling period (default 0.002)",
+    )
+    plan.add_argument(
+        "--grid",
+        choices=["switches", "duration"],
+        help="with --dt: put every switching time (switches, the default) or only the "
+        "duration on its multiples",
     )
     plan.add_argument("--csv", type=Path, help="write samples (SI units) to this CSV file")
     plan.add_argument("--plot", type=Path, help="write a profile plot (.png, .svg or .pdf)")
@@ -358,7 +368,9 @@ def _plan(args: argparse.Namespace) -> int:
     }
     accepts = PROFILES[args.profile]
     if (args.a0 or args.af) and "a0" not in accepts:
-        raise CommandError(f"--a0/--af need a quintic or septic profile, not {args.profile}")
+        raise CommandError(
+            f"--a0/--af need a quintic, septic or scurve profile, not {args.profile}"
+        )
     if args.jmax and "jmax" not in accepts:
         raise CommandError(f"--jmax does not apply to a {args.profile} profile")
     if "a0" in accepts:
@@ -369,8 +381,22 @@ def _plan(args: argparse.Namespace) -> int:
     if "sync" in accepts:
         kwargs["sync"] = None if args.sync == "none" else args.sync
         kwargs["dt"] = args.dt
-    elif args.sync != "time":
-        raise CommandError(f"--sync applies to trapezoid and scurve profiles, not {args.profile}")
+        if args.min_duration is not None:
+            if args.duration is not None:
+                raise CommandError("give --duration (exact) or --min-duration (a floor), not both")
+            kwargs["min_duration"] = args.min_duration
+        if args.grid is not None:
+            if args.dt is None:
+                raise CommandError("--grid needs --dt (the controller period it puts times on)")
+            kwargs["grid"] = args.grid
+    else:
+        for flag, given in (("--sync", args.sync != "time"),
+                            ("--min-duration", args.min_duration is not None),
+                            ("--grid", args.grid is not None)):  # fmt: skip
+            if given:
+                raise CommandError(
+                    f"{flag} applies to trapezoid and scurve profiles, not {args.profile}"
+                )
     planner = PLANNERS[args.profile]
     trajectory = planner(si(args.q0), si(args.qf), duration=args.duration, **kwargs)
     limits = Limits(velocity=kwargs["vmax"], acceleration=kwargs["amax"], jerk=kwargs.get("jmax"))
@@ -378,7 +404,7 @@ def _plan(args: argparse.Namespace) -> int:
         if path is not None and path.suffix.lower() not in {".png", ".svg", ".pdf"}:
             raise CommandError(f"{flag} must end in .png, .svg or .pdf, got {path.name!r}")
     check_sim_options(args)
-    summary = _summary(trajectory, limits, args.profile, unit, to_si)
+    summary = _summary(trajectory, limits, args.profile, unit, to_si, grid=args.grid)
     scene = log = None
     if args.sim == "mujoco":
         scene, log = simulate_arm(args, trajectory)
@@ -408,7 +434,8 @@ def _plan(args: argparse.Namespace) -> int:
     return 0
 
 
-def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to_si: float) -> str:
+def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to_si: float,
+             *, grid: str | None = None) -> str:  # fmt: skip
     info = trajectory.info
     lines = [f"{profile} move: {trajectory.ndof} joint(s), duration {trajectory.duration:.9g} s"]
     if info.get("limiting_joint") is not None:
@@ -416,7 +443,9 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
         lines[0] += f" (set by {what}joint {info['limiting_joint'] + 1})"
     if info.get("sync"):
         lines[0] += f", sync={info['sync']}"
-    if info.get("dt"):
+    if info.get("dt") and grid == "duration":
+        lines[0] += f", duration a multiple of dt={info['dt']:g} s"
+    elif info.get("dt"):
         lines[0] += f", switching on multiples of dt={info['dt']:g} s"
     start, end = trajectory.start_state, trajectory.end_state
     with np.errstate(over="ignore"):  # a peak past 1.8e308 in degrees is shown as inf

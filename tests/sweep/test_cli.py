@@ -106,6 +106,11 @@ BAD_FILES = {
     "period-0": (good(sweep="period = 0"), ["sweep.period"]),
     "keep-everything": (good(sweep='keep = "everything"'), ["sweep.keep", "'everything'"]),
     "unknown-sync": (good(sweep='sync = "fast"'), ["sweep.sync", "'fast'"]),
+    "min-duration-wrong-width": (good(fixed="vmax = 1.0\nmin_duration = [1, 2]"),
+                                 ["fixed.min_duration", "one number or 1, got 2"]),
+    "min-duration-not-a-number": (good(fixed='vmax = 1.0\nmin_duration = "long"'),
+                                  ["fixed.min_duration", "expected a list of numbers"]),
+    "a0-of-a-trapezoid": (good(fixed="vmax = 1.0\na0 = 0.5"), ["fixed.a0", "unknown key"]),
     "joints-0": (good().replace("joints = 2", "joints = 0"), ["robot.joints"]),
     "no-sweep-table": ("[fixed]\nvmax = 1.0\n", ["sweep", "required table is missing"]),
 }  # fmt: skip

@@ -165,6 +165,77 @@ def test_unsynchronised_sweeps_plan(tmp_path):
     np.testing.assert_array_equal(table["duration"].to_numpy(), alone.durations)
 
 
+# ------------------------------------- boundary states, floors and sync modes reach the planners
+OPTION_CASES = {
+    "scurve-moving-ends": ("scurve", "time", {
+        "v0": {"uniform": [-0.3, 0.3]}, "vf": {"uniform": [-0.3, 0.3]},
+        "a0": {"uniform": [-0.5, 0.5]}, "af": {"uniform": [-0.5, 0.5]}}),
+    "scurve-min-duration": ("scurve", "time", {"min_duration": {"values": [0.5, 3.0, 6.0]}}),
+    "trapezoid-min-duration": ("trapezoid", "phase", {"min_duration": {"uniform": [1.0, 5.0]}}),
+    "scurve-time-if-necessary": ("scurve", "time_if_necessary",
+                                 {"vf": {"values": [[0.0, 0.0, 0.0], [0.2, 0.0, -0.2]]}}),
+    "trapezoid-time-if-necessary": ("trapezoid", "time_if_necessary",
+                                    {"vf": {"values": [[0.0, 0.0, 0.0], [0.2, 0.0, -0.2]]}}),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("case", list(OPTION_CASES))
+def test_boundary_states_floors_and_sync_modes_reach_the_planner(tmp_path, case):
+    planner, sync, extra = OPTION_CASES[case]
+    joints = 3
+    data = {
+        "sweep": {"planner": planner, "problems": 60, "chunk": 25, "seed": 4, "sync": sync},
+        "robot": {"joints": joints},
+        "fixed": {"vmax": 1.0, "amax": 2.0, **({"jmax": 10.0} if planner == "scurve" else {})},
+        "swept": {"q0": {"uniform": [-2, 2]}, "qf": {"uniform": [-2, 2]}, **extra},
+    }  # fmt: skip
+    summary, table = planned(data, tmp_path)
+    assert summary.failed == 0, table["error"].to_pylist()
+    names = ["q0", "qf", "v0", "vf"] + (["a0", "af"] if planner == "scurve" else [])
+    values = {name: matrix(table, name, joints) for name in names}
+    floors = (table["min_duration"].to_numpy() if "min_duration" in extra
+              else np.full(table.num_rows, None))  # fmt: skip
+    durations = table["duration"].to_numpy()
+    for i in range(table.num_rows):
+        kwargs = {name: values[name][i] for name in names[2:]}
+        floor = None if floors[i] is None else float(floors[i])
+        if planner == "scurve":
+            single = tk.scurve(values["q0"][i], values["qf"][i], 1.0, 2.0, 10.0, sync=sync,
+                               min_duration=floor, **kwargs)  # fmt: skip
+        else:
+            single = tk.trapezoidal(values["q0"][i], values["qf"][i], 1.0, 2.0, sync=sync,
+                                    min_duration=floor, **kwargs)  # fmt: skip
+        assert durations[i] == pytest.approx(single.duration, rel=SAME_CODE), i
+        if floor is not None:
+            assert durations[i] >= floor * (1 - 1e-12)
+    if "min_duration" in extra:  # a floor above the fastest move sets the duration
+        assert np.any(np.isclose(durations, floors.astype(float), rtol=1e-12, atol=0.0))
+
+
+def test_without_min_duration_the_rows_have_no_such_input(tmp_path):
+    data = {"sweep": {"planner": "scurve", "problems": 4, "chunk": 4},
+            "robot": {"joints": 1}, "fixed": {"q0": 0.0, "qf": 1.0, "vmax": 1.0, "amax": 2.0,
+                                              "jmax": 10.0}}  # fmt: skip
+    spec = sweep.parse(data)
+    assert "min_duration" not in spec.parameters
+    assert sorted(spec.parameters) == ["a0", "af", "amax", "jmax", "q0", "qf", "v0", "vf",
+                                       "vmax"]  # fmt: skip
+    _, table = planned(data, tmp_path)
+    assert "min_duration" not in table.column_names
+
+
+def test_a_floor_that_is_not_positive_is_a_row_with_its_error(tmp_path):
+    data = {"sweep": {"planner": "scurve", "problems": 2, "chunk": 2},
+            "robot": {"joints": 1}, "fixed": {"q0": 0.0, "qf": 1.0, "vmax": 1.0, "amax": 2.0,
+                                              "jmax": 10.0},
+            "swept": {"min_duration": {"values": [-1.0, 4.0]}}}  # fmt: skip
+    _, table = planned(data, tmp_path)
+    first, second = table.to_pylist()
+    assert first["error"] == "InvalidInputError: min_duration must be > 0 s"
+    assert np.isnan(first["duration"])
+    assert second["error"] == "" and second["duration"] == pytest.approx(4.0, rel=1e-12)
+
+
 # ------------------------------------------------------------ the other planners
 @pytest.mark.parametrize(
     ("profile", "speed", "acceleration"),

@@ -21,7 +21,7 @@ from trajkit.io.atomic import StagedFiles, staged_files
 from trajkit.kinematics import BUILTIN, DHRow, SerialChain, from_urdf
 from trajkit.mobile.models import BASES
 from trajkit.profiles import PLANNERS
-from trajkit.scenario.parse import MOBILE_JERKS, Scenario
+from trajkit.scenario.parse import ACCELERATION_PROFILES, MOBILE_JERKS, Scenario
 from trajkit.scenario.reader import ScenarioError
 from trajkit.trajectory import Trajectory
 
@@ -194,14 +194,15 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
         missing = [key for key in needs if key not in limits]
         if missing:
             raise ScenarioError(f"limits.{missing[0]}: required by the {profile} profile")
+        if profile in ACCELERATION_PROFILES:
+            kwargs |= {"a0": task["a0"], "af": task["af"]}
         if profile in ("trapezoid", "scurve"):
             kwargs |= {"sync": None if task["sync"] == "none" else task["sync"],
-                       "dt": scenario.period}  # fmt: skip
+                       "dt": scenario.period, "min_duration": task["min_duration"],
+                       "grid": task["grid"] or "switches"}  # fmt: skip
             args = [limits[key] for key in needs]
             plan = PLANNERS[profile](task["q0"], task["qf"], *args, **kwargs)
         else:
-            if profile != "cubic":
-                kwargs["a0"] = kwargs["af"] = 0.0
             kwargs |= {"vmax": limits.get("velocity"), "amax": limits.get("acceleration"),
                        "jmax": limits.get("jerk")}  # fmt: skip
             plan = PLANNERS[profile](task["q0"], task["qf"], **kwargs)

@@ -31,6 +31,12 @@ JOINT_TASKS = ("joint_move", "waypoints", "polynomial")
 MOBILE_TASKS = ("twist", "goto", "figure8")
 TASKS = ARM_TASKS + MOBILE_TASKS
 PROFILES = ("cubic", "quintic", "septic", "trapezoid", "scurve")
+#: The profiles a joint move's boundary accelerations (a0, af) apply to.
+ACCELERATION_PROFILES = ("quintic", "septic", "scurve")
+#: A trapezoid or S-curve joint move's sync modes ("none": every joint as fast as it can).
+SYNCS = ("time", "phase", "time_if_necessary", "none")
+#: What a trapezoid or S-curve joint move puts on the controller period's grid.
+GRIDS = ("switches", "duration")
 #: The largest time (s) a polynomial task names, some 31,700 years.
 MAX_TIME = 1e12
 #: A base's jerk limits: not MobileLimits; they shape a goto's S-curves, and the scenario's
@@ -142,6 +148,9 @@ def from_data(
     if controller is not None:
         period = controller.number("period", None, positive=True)
         controller.done()
+    if task.get("grid") is not None and period is None:
+        raise ScenarioError("task.grid: only used with a controller period ([controller] "
+                            "period): the grid is its ticks")  # fmt: skip
     simulation = _simulation(root.table("simulation"), kind in MOBILE_TASKS)
     outputs = _outputs(root.table("outputs"))
     root.done()
@@ -201,12 +210,24 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
         task["qf"] = table.numbers("qf", count=task["q0"].size, angles=True)
         task["profile"] = table.string("profile", "cubic", choices=PROFILES)
         task["duration"] = table.number("duration", None, positive=True)
-        task["sync"] = table.string("sync", "time", choices=("time", "phase", "none"))
-        if table.has("sync") and task["profile"] not in ("trapezoid", "scurve"):
-            raise ScenarioError(f"{table.where('sync')}: applies to trapezoid and scurve "
-                                f"profiles, not {task['profile']}")  # fmt: skip
-        task["v0"] = table.numbers("v0", 0.0, count=task["q0"].size, angles=True, scalar_ok=True)
-        task["vf"] = table.numbers("vf", 0.0, count=task["q0"].size, angles=True, scalar_ok=True)
+        task["min_duration"] = table.number("min_duration", None, positive=True)
+        if task["duration"] is not None and task["min_duration"] is not None:
+            raise ScenarioError(f"{table.where('min_duration')}: give duration (exact) or "
+                                "min_duration (a floor), not both")  # fmt: skip
+        task["sync"] = table.string("sync", "time", choices=SYNCS)
+        task["grid"] = table.string("grid", None, choices=GRIDS)
+        for key in ("sync", "min_duration", "grid"):
+            if table.has(key) and task["profile"] not in ("trapezoid", "scurve"):
+                raise ScenarioError(f"{table.where(key)}: applies to trapezoid and scurve "
+                                    f"profiles, not {task['profile']}")  # fmt: skip
+        for key in ("v0", "vf", "a0", "af"):
+            task[key] = table.numbers(key, 0.0, count=task["q0"].size, angles=True,
+                                      scalar_ok=True)  # fmt: skip
+        for key in ("a0", "af"):
+            if table.has(key, angles=True) and task["profile"] not in ACCELERATION_PROFILES:
+                given = key if key in table.data else f"{key}_deg"
+                raise ScenarioError(f"{table.where(given)}: applies to quintic, septic and "
+                                    f"scurve profiles, not {task['profile']}")  # fmt: skip
     elif kind == "waypoints":
         task["points"] = table.matrix("points", angles=True, minimum_rows=2)
         task["through"] = table.boolean("through", False)

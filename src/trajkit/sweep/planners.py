@@ -34,7 +34,10 @@ from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.limits import Report
 from trajkit.scenario.reader import ScenarioError, Table
 
-__all__ = ["PLANNERS", "ChunkResult", "Planner"]
+__all__ = ["OPTIONAL", "PLANNERS", "ChunkResult", "Planner"]
+
+#: The default of a parameter left out (of the inputs and the rows) unless the file gives it.
+OPTIONAL = "optional"
 
 
 @dataclass
@@ -55,7 +58,11 @@ Run = Callable[[dict[str, Any], dict[str, Any], dict[str, FloatArray], float | N
 
 @dataclass(frozen=True)
 class Planner:
-    """One planner's parameters (name → default; None = required), options and runner."""
+    """One planner's parameters (name → default; None = required), options and runner.
+
+    A parameter whose default is :data:`OPTIONAL` is in a chunk's values only when the
+    sweep file gives it.
+    """
 
     parameters: dict[str, Any]
     options: dict[str, Any]
@@ -122,8 +129,9 @@ def _joints_robot(table: Table) -> dict[str, Any]:
     return {"joints": int(joints)}
 
 
-def _joint_widths(names: tuple[str, ...]) -> Callable[[dict, dict], dict[str, int]]:
-    return lambda robot, options: dict.fromkeys(names, robot["joints"])
+def _joint_widths(names: tuple[str, ...], **fixed: int) -> Callable[[dict, dict], dict[str, int]]:
+    """One number per joint for each of ``names``; ``fixed`` names those of a set width."""
+    return lambda robot, options: dict.fromkeys(names, robot["joints"]) | fixed
 
 
 def _phase_peaks(plan: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -246,6 +254,11 @@ def _sync(options: dict) -> str | None:
     return None if options["sync"] == "none" else options["sync"]
 
 
+def _floor(values: dict, rows: np.ndarray) -> FloatArray | None:
+    """Each problem's ``min_duration`` (s), or None when the sweep file gives none."""
+    return values["min_duration"][rows, 0] if "min_duration" in values else None
+
+
 def _run_trapezoid(robot: dict, options: dict, values: dict, period: float | None
                    ) -> ChunkResult:  # fmt: skip
     from trajkit import batch
@@ -257,7 +270,8 @@ def _run_trapezoid(robot: dict, options: dict, values: dict, period: float | Non
     def plan(rows: np.ndarray) -> Any:
         return batch.trapezoidal(values["q0"][rows], values["qf"][rows], values["vmax"][rows],
                                  values["amax"][rows], v0=values["v0"][rows],
-                                 vf=values["vf"][rows], sync=_sync(options))  # fmt: skip
+                                 vf=values["vf"][rows], sync=_sync(options),
+                                 min_duration=_floor(values, rows))  # fmt: skip
 
     def bounds(rows: np.ndarray) -> dict[str, FloatArray]:
         return {"velocity": values["vmax"][rows], "acceleration": values["amax"][rows]}
@@ -278,8 +292,10 @@ def _run_scurve(robot: dict, options: dict, values: dict, period: float | None) 
 
     def plan(rows: np.ndarray) -> Any:
         return batch.scurve(values["q0"][rows], values["qf"][rows], values["vmax"][rows],
-                            values["amax"][rows], values["jmax"][rows],
-                            sync=_sync(options))  # fmt: skip
+                            values["amax"][rows], values["jmax"][rows], v0=values["v0"][rows],
+                            vf=values["vf"][rows], a0=values["a0"][rows],
+                            af=values["af"][rows], sync=_sync(options),
+                            min_duration=_floor(values, rows))  # fmt: skip
 
     def bounds(rows: np.ndarray) -> dict[str, FloatArray]:
         return {"velocity": values["vmax"][rows], "acceleration": values["amax"][rows],
@@ -486,19 +502,23 @@ def _model_limit(attribute: str, key: str) -> Callable[[dict], float]:
     return default
 
 
-_SYNC = ("time", ("time", "phase", "none"))
+_SYNC = ("time", ("time", "phase", "time_if_necessary", "none"))
 
 #: The planners a sweep can name.
 PLANNERS: dict[str, Planner] = {
     "trapezoid": Planner(
-        {"q0": None, "qf": None, "vmax": None, "amax": None, "v0": 0.0, "vf": 0.0},
+        {"q0": None, "qf": None, "vmax": None, "amax": None, "v0": 0.0, "vf": 0.0,
+         "min_duration": OPTIONAL},
         {"sync": _SYNC}, _joints_robot,
-        _joint_widths(("q0", "qf", "vmax", "amax", "v0", "vf")), _run_trapezoid,
+        _joint_widths(("q0", "qf", "vmax", "amax", "v0", "vf"), min_duration=1),
+        _run_trapezoid,
     ),
     "scurve": Planner(
-        {"q0": None, "qf": None, "vmax": None, "amax": None, "jmax": None},
+        {"q0": None, "qf": None, "vmax": None, "amax": None, "jmax": None, "v0": 0.0,
+         "vf": 0.0, "a0": 0.0, "af": 0.0, "min_duration": OPTIONAL},
         {"sync": _SYNC}, _joints_robot,
-        _joint_widths(("q0", "qf", "vmax", "amax", "jmax")), _run_scurve,
+        _joint_widths(("q0", "qf", "vmax", "amax", "jmax", "v0", "vf", "a0", "af"),
+                      min_duration=1), _run_scurve,
     ),
     "polynomial": Planner(
         {"q0": None, "qf": None, "duration": None, "vmax": None, "amax": None},

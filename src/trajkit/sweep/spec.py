@@ -22,8 +22,14 @@ A sweep file is TOML::
     qf = { normal = [0.0, 1.0] }
     amax = { grid = [1.0, 4.0, 4] }    # start, stop, count
 
-The planner's options (``sync`` for trapezoid and S-curve, ``profile``, ``points``
-and ``grid``, ``samples``) go in ``[sweep]`` too; they are fixed for the sweep.
+The planner's options (``sync`` for trapezoid and S-curve: ``"time"``, ``"phase"``,
+``"time_if_necessary"`` or ``"none"``; ``profile``, ``points`` and ``grid``,
+``samples``) go in ``[sweep]`` too; they are fixed for the sweep.
+
+The trapezoid's parameters are ``q0``, ``qf``, ``vmax``, ``amax``, ``v0`` and ``vf``
+(default 0); the S-curve's the same and ``jmax``, ``a0`` and ``af`` (default 0).
+Both take ``min_duration`` (s, one number per problem): each move at least that
+long; without it, every move is time-optimal.
 
 Grids and value lists combine as a Cartesian product, problem ``i`` taking
 combination ``i mod (their count)``; random parameters are drawn, for each chunk,
@@ -45,7 +51,7 @@ import numpy as np
 
 from trajkit._validation import FloatArray
 from trajkit.scenario.reader import ScenarioError, Table
-from trajkit.sweep.planners import PLANNERS, Planner
+from trajkit.sweep.planners import OPTIONAL, PLANNERS, Planner
 
 __all__ = ["Distribution", "SweepError", "SweepSpec", "load", "parse"]
 
@@ -232,6 +238,8 @@ def _parse(data: dict[str, Any]) -> SweepSpec:
         elif swept.has(parameter):
             table = swept.table(parameter)
             parameters[parameter] = _distribution(table, width)
+        elif isinstance(default, str) and default == OPTIONAL:
+            continue  # left out: the planner goes without it
         elif default is not None:
             parameters[parameter] = Distribution("fixed", (np.broadcast_to(
                 np.asarray(default(robot) if callable(default) else default, dtype=float),
