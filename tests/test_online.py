@@ -83,7 +83,7 @@ def test_bad_targets_are_refused_by_name(target, error, message):
 
 def test_a_target_velocity_beyond_the_limit_is_infeasible():
     gen = tk.online.Generator(2, 0.01, V, A, J)
-    with pytest.raises(tk.InfeasibleError, match=r"vf=3 rad/s is beyond the limit 2 rad/s"):
+    with pytest.raises(tk.InfeasibleError, match=r"vf=3 rad/s is beyond the velocity limit 2 rad/s"):
         gen.update([1.0, 1.0], velocity=[0.0, 3.0])
 
 

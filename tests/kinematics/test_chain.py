@@ -567,7 +567,7 @@ def test_reach_of_built_ins():
 @given(chain_and_q=chains_and_configurations())
 def test_reach_bounds_the_distance_from_the_first_joint_to_the_tool(chain_and_q):
     chain, q = chain_and_q
-    # Sliders get a range and no offset here (see the xfail below for offsets).
+    # Sliders get a range and no offset here (offsets: test_reach_counts_a_sliders_offset).
     joints = [
         dataclasses.replace(j, lower=-1.5, upper=1.0, offset=0.0) if not j.revolute else j
         for j in chain.joints

@@ -298,14 +298,14 @@ def _step1(
     tau, lam = _units(pf - p0, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max)
     scaled = not (tau == 1.0 and lam == 1.0)
     if _extreme(tau, lam):
-        if _step1_in_units(prof, tau, lam, *args, valid, block, block_times):
+        if _step1_in_units(prof, tau, lam, args, valid, block, block_times):
             return True
         return _step1_raw(prof, *args, valid, block, block_times)
     if _step1_raw(prof, *args, valid, block, block_times) and not _jumps(
         block_times[0], p0, v0, a0, pf, vf, af
     ):
         return True
-    return scaled and _step1_in_units(prof, tau, lam, *args, valid, block, block_times)
+    return scaled and _step1_in_units(prof, tau, lam, args, valid, block, block_times)
 
 
 @njit(cache=True, error_model="numpy")
@@ -315,27 +315,9 @@ def _extreme(tau, lam):
 
 
 @njit(cache=True, error_model="numpy")
-def _step1_in_units(
-    prof,
-    tau,
-    lam,
-    p0,
-    v0,
-    a0,
-    pf,
-    vf,
-    af,
-    v_max,
-    v_min,
-    a_max,
-    a_min,
-    j_max,
-    control,
-    valid,
-    block,
-    block_times,
-):
-    """:func:`_step1_raw` in units ``tau`` (s), ``lam``; the records back in the caller's."""
+def _step1_in_units(prof, tau, lam, args, valid, block, block_times):
+    """:func:`_step1_raw` of ``args`` in units ``tau`` (s), ``lam``; records in the caller's."""
+    p0, v0, a0, pf, vf, af, v_max, v_min, a_max, a_min, j_max, control = args
     v = tau / lam
     a = v * tau
     j = j_max * a * tau if math.isfinite(j_max) else j_max
