@@ -463,3 +463,19 @@ def test_batch_evaluation_from_the_end_time_on_is_the_exact_end_state(planner) -
             np.testing.assert_array_equal(plans.evaluate(plans.durations[i], order)[i],
                                           plans[i].evaluate(plans[i].end_time, order))  # fmt: skip
     assert not np.signbit(plans.velocity(plans.durations.max())).any()
+
+
+@pytest.mark.parametrize("planner", ["trapezoidal", "scurve"])
+def test_grid_duration_puts_only_the_durations_on_the_period_grid(planner):
+    rng = np.random.default_rng(5)
+    q0, qf = rng.uniform(-2.0, 2.0, (2, 40, 3))
+    v0 = rng.uniform(-0.4, 0.4, (40, 3))
+    limits = (1.0, 2.0) if planner == "trapezoidal" else (1.0, 2.0, 10.0)
+    plans = getattr(tk.batch, planner)(q0, qf, *limits, v0=v0, dt=0.01, grid="duration")
+    for i in (0, 17, 39):
+        alone = getattr(tk, planner)(q0[i], qf[i], *limits, v0=v0[i], dt=0.01, grid="duration")
+        assert plans.durations[i] == pytest.approx(alone.duration, rel=CLOSED_FORM)
+    steps = plans.durations / 0.01
+    np.testing.assert_allclose(steps, np.round(steps), rtol=0, atol=1e-9 * steps.max())
+    with pytest.raises(tk.InvalidInputError, match=r"^grid must be 'switches' or 'duration'"):
+        getattr(tk.batch, planner)(q0, qf, *limits, dt=0.01, grid="phases")

@@ -239,7 +239,7 @@ def test_plan_trapezoid_time_sync_names_limiting_joint(capsys):
         (["--vmax", "1"], "trapezoidal needs vmax and amax"),
         (["--vmax", "1", "--amax", "1", "--jmax", "3"], "--jmax does not apply to a trapezoid"),
         (["--vmax", "1", "--amax", "1", "--duration", "0.5"], "below the minimum 2 s"),
-        (["--vmax", "1", "--amax", "1", "--v0", "2"], "v0=2 rad/s is beyond the velocity limit"),
+        (["--vmax", "1", "--amax", "1", "--vf", "2"], "vf=2 rad/s is beyond the velocity limit"),
     ],
 )
 def test_plan_trapezoid_errors(argv, message, capsys):
@@ -266,7 +266,7 @@ def test_plan_scurve_on_controller_period(capsys):
 def test_plan_scurve_needs_all_three_limits(capsys):
     status, _, err = run(capsys, "plan", "scurve", "--q0", "0", "--qf", "1", "--vmax", "1")
     assert status == 2
-    assert "scurve needs vmax, amax and jmax; missing amax, jmax" in err
+    assert "amax and jmax are required: scurve needs vmax, amax and jmax" in err
 
 
 SCURVE_ARGS = ("--q0", "0,0.5", "--qf", "1,-0.5", "--vmax", "1", "--amax", "2")
@@ -531,8 +531,8 @@ def test_warnings_of_a_successful_command_are_shown_once(capsys, monkeypatch):
           "--deg"],
          "duration 0.1 s is below the minimum 13.5 s set by vmax=10 deg/s (joint 1)"),
         (["plan", "trapezoid", "--q0", "0", "--qf", "90", "--vmax", "10", "--amax", "5",
-          "--v0", "20", "--deg"],
-         "v0=20 deg/s is beyond the velocity limit 10 deg/s (joint 1)"),
+          "--vf", "20", "--deg"],
+         "vf=20 deg/s is beyond the velocity limit 10 deg/s (joint 1)"),
         (["plan", "cubic", "--q0", "0", "--qf", "90", "--vmax", "-12.345678", "--deg"],
          "vmax must be > 0 for every joint, got -12.345678 deg/s for joint 1"),
         (["plan", "cubic", "--q0", "0", "--qf", "90", "--duration", "0.5", "--vmax", "10",

@@ -61,9 +61,11 @@ def test_ragged_sequences_are_refused_by_name(call: Any, name: str) -> None:
 )
 def test_sync_given_as_an_array_is_refused_by_name(call: Any) -> None:
     # `sync not in (...)` compared the array elementwise: "truth value is ambiguous".
-    with pytest.raises(
-        tk.InvalidInputError, match=r"^sync must be 'time', 'phase' or None, got array\("
-    ):
+    expected = (
+        r"^sync must be one of \('time', 'phase', 'time_if_necessary', None\) "
+        r"or a sequence of them per joint, got array\("
+    )
+    with pytest.raises(tk.InvalidInputError, match=expected):
         call()
 
 

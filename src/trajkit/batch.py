@@ -23,7 +23,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from trajkit._validation import FloatArray, as_float_array, finite_array, positive_scalar
+from trajkit._validation import (
+    FloatArray,
+    as_float_array,
+    choice,
+    finite_array,
+    positive_scalar,
+)
 from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import engine, limited
@@ -302,7 +308,12 @@ def _sync_codes(sync: object, ndof: int, count: int) -> tuple[np.ndarray, tuple]
 
 
 def _plan(
-    planner: str, m: FloatArray, sync: object, min_duration: ArrayLike | None, dt: float | None
+    planner: str,
+    m: FloatArray,
+    sync: object,
+    min_duration: ArrayLike | None,
+    dt: float | None,
+    grid: str,
 ) -> tuple[engine.EngineResult, tuple, float | None]:
     count, _, ndof = m.shape
     codes, names = _sync_codes(sync, ndof, count)
@@ -314,8 +325,11 @@ def _plan(
         if np.any(floor <= 0):
             raise InvalidInputError("min_duration must be > 0 s")
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    grid = choice("grid", grid, limited.GRIDS)
     control = np.zeros((count, ndof), np.int64)
-    result = engine.solve(planner, m, control=control, sync=codes, min_duration=floor, dt=step)
+    result = engine.solve(
+        planner, m, control=control, sync=codes, min_duration=floor, dt=step, grid=grid
+    )
     return result, names, step
 
 
@@ -342,13 +356,16 @@ def trapezoidal(
     sync: object = "time",
     min_duration: ArrayLike | None = None,
     dt: float | None = None,
+    grid: str = "switches",
 ) -> BatchTrajectory:
     """Time-optimal trapezoid profiles for ``B`` problems at once.
 
     Same meaning as :func:`trajkit.trapezoidal` (limit mode), with every argument
     of shape ``(B, ndof)`` or broadcastable to it (limits may be per joint
     ``(ndof,)``, per problem, or a ``(lower, upper)`` tuple of such arrays);
-    ``min_duration`` one number or one per problem.
+    ``min_duration`` one number or one per problem; with ``dt``, ``grid`` puts
+    every switching time (``"switches"``) or only the duration (``"duration"``)
+    on the period grid.
 
     Returns
     -------
@@ -359,7 +376,7 @@ def trapezoidal(
     """
     values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": 0.0, "af": 0.0}
     m = _matrix("trapezoidal", values, vmax, amax, np.inf)
-    result, names, step = _plan("trapezoidal", m, sync, min_duration, dt)
+    result, names, step = _plan("trapezoidal", m, sync, min_duration, dt, grid)
 
     def info() -> dict[str, Any]:
         from trajkit.profiles._kernels.tables import stretches_batch
@@ -394,13 +411,14 @@ def scurve(
     sync: object = "time",
     min_duration: ArrayLike | None = None,
     dt: float | None = None,
+    grid: str = "switches",
 ) -> BatchTrajectory:
     """Time-optimal jerk-limited profiles for ``B`` problems at once, state to state.
 
     Same meaning as :func:`trajkit.scurve`, with every argument of shape
     ``(B, ndof)`` or broadcastable to it (limits may be per joint, per problem, or
     ``(lower, upper)`` tuples of such arrays); ``min_duration`` one number or one
-    per problem.
+    per problem; ``grid`` as in :func:`trapezoidal`.
 
     Returns
     -------
@@ -411,7 +429,7 @@ def scurve(
     """
     values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": a0, "af": af}
     m = _matrix("scurve", values, vmax, amax, jmax)
-    result, names, step = _plan("scurve", m, sync, min_duration, dt)
+    result, names, step = _plan("scurve", m, sync, min_duration, dt, grid)
 
     def info() -> dict[str, Any]:
         from trajkit.profiles._kernels.tables import velocities_at_phases

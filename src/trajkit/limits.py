@@ -308,6 +308,10 @@ class Report:
         return "\n".join(lines)
 
 
+#: Units in the last place of the end time by which a check lets breakpoints shift.
+TIME_ULPS = 8.0
+
+
 def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Report:
     """Verify ``limits`` on ``trajectory`` exactly, from its polynomial pieces.
 
@@ -315,7 +319,10 @@ def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Repo
     excursion between two samples is found. A value counts as a violation when it
     passes its bound by more than ``rtol`` times the larger of
     ``|lower|`` and ``|upper|``: time-optimal trajectories touch
-    their limits, and the last bits of floating point must not flag them.
+    their limits, and the last bits of floating point must not flag them. Nor
+    must the resolution of absolute time: a value may also pass its bound, and
+    jump, by the next derivative's peak times ``8 eps`` times the end time (a
+    1e-9 s ramp at t = 1e3 s is placed to about 1e-13 s).
 
     Between pieces, a jump of derivative ``k`` (beyond ``rtol`` relative to the
     size of the values, see :meth:`Trajectory.jumps`) makes every derivative above
@@ -342,7 +349,20 @@ def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Repo
     violations: list[Violation] = []
     peaks: dict[str, tuple[FloatArray, FloatArray]] = {}
     checked: dict[str, tuple[FloatArray, FloatArray]] = {}
-    jumps = [trajectory.jumps(order, rtol=tolerance) for order in range(len(QUANTITIES) - 1)]
+    # Breakpoints in absolute time are resolved to an ulp of the end time: a value
+    # may pass its bound, or jump, by what shifting a phase's ends that much explains
+    # (the next derivative's peak times TIME_ULPS * eps * end time).
+    resolution = TIME_ULPS * np.finfo(float).eps * abs(trajectory.end_time)
+    slacks = [np.zeros(trajectory.ndof) for _ in QUANTITIES]
+    for order in range(len(QUANTITIES) - 1):
+        rate = trajectory.extrema(order + 1)
+        slacks[order] = resolution * np.maximum(np.abs(rate.minimum), np.abs(rate.maximum))
+    jumps = [
+        np.where(np.abs(jump) <= slacks[order], 0.0, jump)
+        for order, jump in enumerate(
+            trajectory.jumps(order, rtol=tolerance) for order in range(len(QUANTITIES) - 1)
+        )
+    ]
     times = trajectory.breakpoints[1:-1]
     for order, quantity in enumerate(QUANTITIES):
         bounds: Bounds | None = getattr(limits, quantity)
@@ -352,7 +372,8 @@ def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Repo
         found, causes = _unbounded_at_jumps(trajectory.extrema(order), jumps[:order], times)
         peaks[quantity] = (found.minimum, found.maximum)
         checked[quantity] = (lower, upper)
-        for violation in compare(quantity, found, lower, upper, tolerance):
+        slack = slacks[order]
+        for violation in compare(quantity, found, lower, upper, tolerance, slack=slack):
             cause = causes.get((violation.joint, violation.value > 0))
             violations.append(replace(violation, cause=cause) if cause else violation)
     return Report(tuple(violations), peaks, checked, discontinuities=_largest(jumps, times))
@@ -416,15 +437,17 @@ def compare(
     upper: FloatArray,
     rtol: float,
     channels: tuple[str, ...] = (),
+    *,
+    slack: float | FloatArray = 0.0,
 ) -> list[Violation]:
     """The worst violation per entry and side of ``found`` against ``(lower, upper)``.
 
     A value is a violation when it passes its bound by more than ``rtol`` times the
-    larger finite magnitude of the two bounds. ``channels`` labels the entries
-    (default: joints).
+    larger finite magnitude of the two bounds, plus ``slack`` (absolute, per entry
+    or one for all). ``channels`` labels the entries (default: joints).
     """
     finite = np.where(np.isfinite(lower), np.abs(lower), 0.0)
-    slack = rtol * np.maximum(finite, np.where(np.isfinite(upper), np.abs(upper), 0.0))
+    slack = rtol * np.maximum(finite, np.where(np.isfinite(upper), np.abs(upper), 0.0)) + slack
     violations = []
     for j in range(found.minimum.size):
         label = channels[j] if channels else ""

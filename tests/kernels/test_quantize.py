@@ -14,7 +14,6 @@ developer in the report, not here.
 """
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -420,41 +419,4 @@ def test_worst_excess_over_many_problems():
         )
         if kind.startswith("rest"):
             assert excess.max() < (2.0 if second else 3.0)
-    print("\n" + "\n".join(lines))
-
-
-@pytest.mark.slow
-def test_speed_of_the_batch():
-    rng = np.random.default_rng(7)
-    count, ndof, dt = 100_000, 6, 0.002
-    lines = []
-    for j_max in (None, np.inf):
-        m = np.zeros((count, 11, ndof))
-        m[:, 0] = rng.uniform(-1, 1, (count, ndof))
-        m[:, 1] = m[:, 0] + rng.uniform(-2, 2, (count, ndof))
-        v, a = rng.uniform(0.5, 3, (count, ndof)), rng.uniform(1, 10, (count, ndof))
-        m[:, 6], m[:, 7], m[:, 8], m[:, 9] = -v, v, -a, a
-        m[:, 10] = rng.uniform(5, 100, (count, ndof)) if j_max is None else j_max
-        ints = np.zeros((count, ndof), np.int64)
-        profiles = np.zeros((count, ndof, L.SIZE))
-        own, out = np.zeros((count, ndof)), np.zeros((count, S.OUT_SIZE))
-        status = np.zeros(count, np.int64)
-        floor = np.full(count, np.nan)
-        args = (ints, ints, ints + 1, floor)
-        q.plan_on_grid_batch(m[:8], *(x[:8] for x in args), dt, profiles[:8], own[:8], out[:8],
-                             status[:8])  # fmt: skip
-        started = time.perf_counter()
-        S.plan_batch(m, *args, 0.0, profiles, own, out, status)
-        continuous = time.perf_counter() - started
-        reference = out[:, 0].copy()
-        started = time.perf_counter()
-        q.plan_on_grid_batch(m, *args, dt, profiles, own, out, status)
-        grid = time.perf_counter() - started
-        assert np.all(status == S.OK)
-        excess = (out[:, 0] - reference) / dt
-        kind = "S-curves" if j_max is None else "trapezoids"
-        lines.append(
-            f"{kind}: {count / grid:,.0f} problems/s on the grid ({count / continuous:,.0f}/s "
-            f"continuous), worst excess {excess.max():.3f} periods"
-        )
     print("\n" + "\n".join(lines))

@@ -931,8 +931,8 @@ def test_dt_zero_step_phases_keep_the_end_velocity(sync):
 def test_dt_when_nearby_durations_are_blocked():
     # Moving at about -4 rad/s at both ends, 1.06 rad to go, |a| <= 0.155: changing the
     # speed by 1 rad/s takes 6.5 s, so only durations within a sliver above the optimum
-    # (0.2616 s) or far longer ones work. No whole-step profile exists within 16 periods:
-    # refusing is right.
+    # (0.2616 s) or far longer ones work. No whole-step profile exists within 16 periods,
+    # so the plan is one of the far longer ones: a slow reversal on the grid.
     q0, qf, v0, vf, V, A = (
         1.26570265268726,
         0.2084794786249491,
@@ -948,8 +948,23 @@ def test_dt_when_nearby_durations_are_blocked():
         window = (0, steps + 1)  # every split, zero-step phases included
         found = whole_step_profiles(qf - q0, v0, vf, V, V, A, A, dt, steps, window, window)
         assert len(found) == 0
-    with pytest.raises(tk.InfeasibleError, match=r"whole multiples of dt=0\.0151741 s"):
-        tk.trapezoidal(q0, qf, V, A, v0=v0, vf=vf, sync=None, dt=dt)
+    tr = tk.trapezoidal(q0, qf, V, A, v0=v0, vf=vf, sync=None, dt=dt)
+    assert tr.duration > (first + 16) * dt
+    assert_whole_multiples(tr.info["phase_times"], dt, "phase times")
+    support.assert_state(tr.position(tr.duration), [qf])
+    support.assert_state(tr.velocity(tr.duration), [vf])
+    assert tr.check(tk.Limits(velocity=V, acceleration=A)).ok
+
+
+@pytest.mark.parametrize("grid", ["duration", "switches"])
+def test_dt_when_the_minimum_is_a_multiple_but_for_rounding(grid):
+    # fmod(2.0, 0.01) is 0.00999999999999989: rounding 2 s "up" to whole periods gave
+    # 1.9999999999999998 s, below the slower joint's own minimum, so no common
+    # duration was found.
+    tr = tk.trapezoidal([0.0, 0.5], [1.0, -1.0], 1.0, 2.0, dt=0.01, grid=grid)
+    assert tr.duration == pytest.approx(2.0, rel=CLOSED_FORM)
+    support.assert_state(tr.position(tr.duration), [1.0, -1.0])
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=2.0)).ok
 
 
 @pytest.mark.parametrize("sync", SYNC_MODES)

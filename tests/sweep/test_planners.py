@@ -70,11 +70,11 @@ def test_failed_problems_are_rows_and_the_others_are_planned_alone(tmp_path):
 def test_an_error_never_names_another_problem(tmp_path):
     data = {"sweep": {"planner": "trapezoid", "problems": 6, "chunk": 6},
             "robot": {"joints": 1}, "fixed": {"q0": 0.0, "qf": 1.0, "vmax": 1.0, "amax": 2.0},
-            "swept": {"v0": {"values": [0.0, 2.0]}}}  # fmt: skip
+            "swept": {"vf": {"values": [0.0, 2.0]}}}  # fmt: skip
     _, table = planned(data, tmp_path)
     for row in table.to_pylist():
         if row["problem"] % 2:
-            assert row["error"].startswith("InfeasibleError: v0=2 rad/s is beyond")
+            assert row["error"].startswith("InfeasibleError: vf=2 rad/s is beyond")
             named = re.findall(r"problem (\d+)", row["error"])
             assert all(int(number) == row["problem"] for number in named), row
 
@@ -401,7 +401,7 @@ def test_mobile_rows_keep_the_wheel_speed_limit_of_the_base(tmp_path):
         np.testing.assert_allclose(wheels[i], expected, rtol=PEAKS)
     assert wheels.max() <= WHEEL * (1 + ROUNDING_OVER)
     assert wheels.max() >= WHEEL * (1 - 1e-12)  # the long drives run the wheels at their limit
-    np.testing.assert_array_equal(table["worst_violation"].to_numpy(), 0.0)
+    assert table["worst_violation"].to_numpy().max() <= ROUNDING_OVER
 
 
 def test_a_row_is_feasible_exactly_when_its_check_is_ok():
@@ -435,23 +435,25 @@ def test_a_row_is_feasible_exactly_when_its_check_is_ok():
 
 
 @pytest.mark.parametrize(
-    ("fixed", "duration", "speed"),
+    "fixed",
     [
-        # 1e300 s phases: 0 * inf = NaN peaks before, so an infeasible row and a
-        # stack of overflow warnings; the move is a valid one.
-        ({"qf": 1.0, "vmax": 1e-300, "amax": 4.0}, 1e300, 1e-300),
-        ({"qf": 1e308, "vmax": 1.0, "amax": 4.0}, 1e308, 1.0),
+        # 1e300 s at the velocity limit, ramps of 2.5e-301 s: 0 * inf = NaN peaks once
+        # gave an infeasible row with a stack of overflow warnings. In absolute time the
+        # last ramp rounds away (float64 resolves 1e284 s there), so no plan reaches
+        # the target: the row says so.
+        {"qf": 1.0, "vmax": 1e-300, "amax": 4.0},
+        {"qf": 1e308, "vmax": 1.0, "amax": 4.0},
     ],
     ids=["vmax-1e-300", "qf-1e308"],
 )
-def test_extreme_moves_have_honest_rows_and_no_warnings(tmp_path, fixed, duration, speed):
+def test_extreme_moves_have_honest_rows_and_no_warnings(tmp_path, fixed):
     data = {"sweep": {"planner": "trapezoid", "problems": 2, "chunk": 2},
             "robot": {"joints": 2}, "fixed": {"q0": 0.0, **fixed}}  # fmt: skip
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         summary, table = planned(data, tmp_path)
-    assert summary.failed == summary.infeasible == 0
-    np.testing.assert_allclose(table["duration"].to_numpy(), duration, rtol=1e-12)
-    np.testing.assert_allclose(matrix(table, "peak_velocity", 2), speed, rtol=1e-12)
-    np.testing.assert_array_equal(matrix(table, "peak_acceleration", 2), 4.0)
-    np.testing.assert_array_equal(table["worst_violation"].to_numpy(), 0.0)
+    assert summary.failed == summary.infeasible == 2
+    for row in table.to_pylist():
+        assert row["error"].startswith("InfeasibleError: trapezoidal: joint 1 needs about 1e+30")
+        assert "beyond what float64 resolves in one motion" in row["error"]
+        assert not row["feasible"]

@@ -27,7 +27,7 @@ from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
 from trajkit.profiles._phases import PhasePlan
 
-__all__ = ["SYNC_MODES", "EngineResult", "kernels", "phase_plan", "solve"]
+__all__ = ["SYNC_MODES", "EngineResult", "kernels", "phase_plan", "solve", "warm"]
 
 #: Synchronization modes and the kernels' codes for them.
 SYNC_MODES: dict[str | None, int] = {"time": 0, "phase": 1, "time_if_necessary": 2, None: 3}
@@ -45,12 +45,6 @@ def kernels() -> ModuleType:
     if not _checked:
         _checked = True
         _drop_stale_cache()
-        # numba's default OpenMP layer dies in a process forked after it ran (the
-        # sweep's worker pool forks); the workqueue layer does not. A user's own
-        # choice (the environment variable) stands.
-        import os
-
-        os.environ.setdefault("NUMBA_THREADING_LAYER", "workqueue")
     from trajkit.profiles._kernels import solve
 
     return solve
@@ -106,6 +100,32 @@ def run(name: str, kernel: Any, *args: Any) -> Any:
             timer.cancel()
             _warm.add(name)
             _compile_times[name] = time.perf_counter() - started
+
+
+def warm() -> float:
+    """Compile (or load from the cache) every kernel the planners call.
+
+    The first use of each kernel otherwise compiles it on the spot; ``trajkit
+    demo`` and the test suite call this first, so later processes load the
+    cache. Returns the seconds it took (s).
+    """
+    import trajkit as tk
+    import trajkit.batch
+
+    started = time.perf_counter()
+    q0, qf = [0.0, 0.5], [1.0, -1.0]
+    for jmax in (10.0, np.inf):
+        for sync in ("time", "phase", None):
+            for dt in (None, 0.01):
+                tk.scurve(q0, qf, 1.0, 2.0, jmax, v0=[0.1, 0.0], sync=sync, dt=dt).position(0.5)
+        tk.scurve(q0, qf, 1.0, 2.0, jmax, dt=0.01, grid="duration")
+        tk.scurve(q0, qf, 1.0, 2.0, jmax, duration=5.0)
+        plans = trajkit.batch.scurve([q0, qf], [qf, q0], 1.0, 2.0, jmax, v0=0.1, dt=0.01)
+        plans.position(0.5)
+        plans[1].position(0.5)
+        trajkit.batch.scurve([q0, qf], [qf, q0], 1.0, 2.0, jmax, sync="phase").position(0.5)
+        tk.online.Generator(2, 0.01, 1.0, 2.0, jmax).update(qf)
+    return time.perf_counter() - started
 
 
 def _announce() -> None:

@@ -247,12 +247,15 @@ def read_problem(
     if fast is not None:
         return fast
     ndof = count_dof(q0=q0, qf=qf, v0=v0, vf=vf, a0=a0, af=af)
-    for name, spec in (("vmax", vmax), ("amax", amax), ("jmax", jmax)):
-        if spec is None:
-            raise InvalidInputError(
-                f"{name} is required: {planner} needs a number, one per joint or a "
-                "(lower, upper) tuple"
-            )
+    limits = (("vmax", vmax), ("amax", amax), ("jmax", jmax))
+    missing = [name for name, spec in limits if spec is None]
+    if missing:
+        raise InvalidInputError(
+            f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} required: "
+            f"{planner} needs vmax, amax and jmax (a number, one per joint or a "
+            "(lower, upper) tuple each)"
+        )
+    for name, spec in limits:
         if not isinstance(spec, tuple):
             ndof = max(ndof, count_dof(q0=q0, qf=qf, v0=v0, vf=vf, **{name: spec}))
     start = joint_vector("q0", q0, ndof, unit="rad")
@@ -290,6 +293,11 @@ def read_problem(
     with np.errstate(over="ignore"):
         distance = end - start
     finite_result(planner, distance, {"q0": start, "qf": end})
+    with np.errstate(all="ignore"):
+        # A lower bound on each joint's duration: beyond float64, no plan can hold it.
+        speed, push = np.minimum(v_max, -v_min), np.minimum(a_max, -a_min)
+        scale = np.abs(distance) / speed + (speed + np.abs(problem.v0) + np.abs(problem.vf)) / push
+    finite_result(planner, scale, {"vmax": vmax, "amax": amax, "v0": v0, "vf": vf})
     return problem
 
 

@@ -117,7 +117,7 @@ def _failed(columns: dict[str, np.ndarray], index: int, error: Exception,
     message = f"{type(error).__name__}: {error}".replace("\n", " ")
     if batched:  # a batch planner numbers problems within the batch it was given:
         # the row is the problem, so its position in some batch would only mislead.
-        message = re.sub(r" \(problem \d+\)", "", re.sub(r"\bproblem \d+, ", "", message))
+        message = re.sub(r" \(problem \d+\)| in problem \d+|\bproblem \d+[,:] ", "", message)
     columns["error"][index] = message
 
 

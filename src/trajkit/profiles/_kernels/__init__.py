@@ -18,3 +18,14 @@ The mathematics follows Berscheid and Kröger, "Jerk-limited Real-time Trajector
 Generation with Arbitrary Target States" (RSS 2021), whose reference
 implementation (ruckig) serves as the test oracle.
 """
+
+import os
+
+import numba
+
+# numba's default OpenMP layer dies in a process forked after it ran (the sweep's
+# worker pool forks); the workqueue layer does not. A user's own choice (the
+# environment variable) stands. Set on numba's config, not the environment: numba
+# may have been imported before, and it reads the layer at the first parallel call.
+if "NUMBA_THREADING_LAYER" not in os.environ:
+    numba.config.THREADING_LAYER = "workqueue"

@@ -657,6 +657,28 @@ def _keep_gentlest(best, row, speed, best_speed):
     return best_speed
 
 
+# The fallback's units come from the whole motion (|vf| * tf may be 100 rad while
+# the joint stays within 1e-6 rad of its target): its candidates must also land
+# within this fraction of the distance they actually travel.
+LANDING_RTOL = 1e-9
+
+
+@njit(cache=True, error_model="numpy")
+def _lands(row, tf):
+    """Whether a candidate ends on its target relative to its own excursion.
+
+    Or within what its velocities' rounding (8 ulp over ``tf``) explains: a coast
+    velocity reached from 1e6 by a ramp is resolved to 1e-9 only.
+    """
+    excursion = abs(row[PF] - row[P])
+    speed = 0.0
+    for i in range(1, 8):
+        excursion = max(excursion, abs(row[P + i] - row[P]))
+        speed = max(speed, abs(row[V + i - 1]))
+    tolerance = LANDING_RTOL * excursion + 8.0 * EPS * speed * tf
+    return abs(row[P + 7] - row[PF]) <= tolerance
+
+
 @njit(cache=True, error_model="numpy")
 def _timed_fallback(prof, tf, v_max, v_min, a_max, a_min):
     """A profile of duration ``tf`` by stable closed forms in the move's own units.
@@ -671,7 +693,20 @@ def _timed_fallback(prof, tf, v_max, v_min, a_max, a_min):
     pd = prof[PF] - prof[P]
     v0 = prof[V]
     vf = prof[VF]
-    tau, lam = _units(tf, max(abs(pd), abs(v0) * tf, abs(vf) * tf), v_max, v_min, a_max, a_min)
+    # Lengths of a coast at a boundary velocity, else of braking from it: a joint
+    # that stops, creeps back and stops again travels only the latter.
+    push = min(a_max, -a_min)
+    braking = max(abs(pd), (v0 * v0 + vf * vf) / push)
+    for size in (max(abs(pd), abs(v0) * tf, abs(vf) * tf), braking):
+        if _timed_fallback_in(prof, tf, size, v_max, v_min, a_max, a_min):
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def _timed_fallback_in(prof, tf, size, v_max, v_min, a_max, a_min):
+    """:func:`_timed_fallback` in units of time ``tf`` and of length ``size``."""
+    tau, lam = _units(tf, size, v_max, v_min, a_max, a_min)
     v = tau / lam
     a = v * tau
     vu, vl, au, al = v_max * v, v_min * v, a_max * a, a_min * a
@@ -704,21 +739,21 @@ def _timed_fallback(prof, tf, v_max, v_min, a_max, a_min):
             if not math.isfinite(u):
                 continue
             row[:] = work
-            if _try_ramps(row, t, u, a1, a3, vu, vl, au, al):
+            if _try_ramps(row, t, u, a1, a3, vu, vl, au, al) and _lands(row, t):
                 best_speed = _keep_gentlest(best, row, abs(row[V + 1]), best_speed)
     # Stop, stand still, start again.
     row[:] = work
     a1 = al if v0 > 0.0 else au
     a3 = au if vf > 0.0 else al
-    if _try_ramps(row, t, 0.0, a1, a3, vu, vl, au, al):
+    if _try_ramps(row, t, 0.0, a1, a3, vu, vl, au, al) and _lands(row, t):
         best_speed = _keep_gentlest(best, row, 0.0, best_speed)
     vd = vf - v0
     if vd != 0.0:
         row[:] = work
-        if _try_free(row, t, 2.0 * (vf * t - pd) / vd, True, vu, vl, au, al):
+        if _try_free(row, t, 2.0 * (vf * t - pd) / vd, True, vu, vl, au, al) and _lands(row, t):
             best_speed = _keep_gentlest(best, row, abs(vf), best_speed)
         row[:] = work
-        if _try_free(row, t, 2.0 * (pd - v0 * t) / vd, False, vu, vl, au, al):
+        if _try_free(row, t, 2.0 * (pd - v0 * t) / vd, False, vu, vl, au, al) and _lands(row, t):
             best_speed = _keep_gentlest(best, row, abs(v0), best_speed)
     if math.isinf(best_speed):
         return False

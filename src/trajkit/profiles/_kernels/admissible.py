@@ -30,6 +30,12 @@ def admissible(m):
             return False
         if not math.isfinite(m[QF, d] - m[Q0, d]):
             return False
+        # A lower bound on the duration (s): beyond float64, no plan can hold it.
+        speed = min(m[V_MAX, d], -m[V_MIN, d])
+        push = min(m[A_MAX, d], -m[A_MIN, d])
+        scale = abs(m[QF, d] - m[Q0, d]) / speed + (speed + abs(m[V0, d]) + abs(m[VF, d])) / push
+        if not math.isfinite(scale):
+            return False
         vf = m[VF, d]
         af = m[AF, d]
         if not (m[V_MIN, d] <= vf <= m[V_MAX, d] and m[A_MIN, d] <= af <= m[A_MAX, d]):

@@ -770,6 +770,19 @@ def _remove(valid, count, index):
 
 
 @njit(cache=True, error_model="numpy")
+def _same_motion(valid, count):
+    """The later of two candidates of one direction and one duration (to 256 eps), or -1."""
+    for i in range(count):
+        for k in range(i + 1, count):
+            if (
+                valid[i, DIRECTION] == valid[k, DIRECTION]
+                and abs(valid[i, T_SUM + 6] - valid[k, T_SUM + 6]) < 256 * EPS
+            ):
+                return k
+    return -1
+
+
+@njit(cache=True, error_model="numpy")
 def calculate_block(valid, count, block, block_times):
     """Minimum duration and blocked intervals from the valid candidates.
 
@@ -831,7 +844,12 @@ def calculate_block(valid, count, block, block_times):
         elif abs(t0 - t3) < 256 * EPS and d0 != d3:
             count = _remove(valid, count, 3)
         else:
-            return False
+            # Two of one direction with one duration are one motion: a peak that
+            # touches a limit is the profile holding it for no time.
+            duplicate = _same_motion(valid, count)
+            if duplicate < 0:
+                return False
+            count = _remove(valid, count, duplicate)
     elif count % 2 == 0:
         return False
 

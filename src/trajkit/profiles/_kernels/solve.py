@@ -105,9 +105,22 @@ def online_step(m, control, sync, enabled, period, records, own, out, state):
     target itself.
     """
     status = synchronize.plan(m, control, sync, enabled, np.nan, 0.0, records, own, out)
+    ndof = m.shape[1]
+    relaxed = sync
+    copied = False
+    for _ in range(ndof):
+        if status != synchronize.STEP2_FAILED or out[synchronize.OUT_JOINT] < 0:
+            break
+        # A joint that cannot take the common duration (the timed law fails near
+        # the end of some moves, planned afresh from where the last cycle left
+        # them) moves on its own this cycle: the next cycle synchronizes again.
+        if not copied:
+            relaxed = sync.copy()
+            copied = True
+        relaxed[int(out[synchronize.OUT_JOINT])] = synchronize.SYNC_NONE
+        status = synchronize.plan(m, control, relaxed, enabled, np.nan, 0.0, records, own, out)
     if status != synchronize.OK:
         return status
-    ndof = m.shape[1]
     finished = out[synchronize.OUT_DURATION] <= period
     for d in range(ndof):
         if finished:

@@ -64,6 +64,7 @@ from trajkit.profiles._kernels.layout import (
 from trajkit.profiles._kernels.profile import (
     finalize_brake,
     finalize_brake_second_order,
+    integrate,
     power_of_two,
     set_boundary,
 )
@@ -300,12 +301,111 @@ def _step1(
     if _extreme(tau, lam):
         if _step1_in_units(prof, tau, lam, args, valid, block, block_times):
             return True
-        return _step1_raw(prof, *args, valid, block, block_times)
+        if _step1_raw(prof, *args, valid, block, block_times):
+            return True
+        return _step1_in_place(prof, args, valid, block, block_times)
     if _step1_raw(prof, *args, valid, block, block_times) and not _jumps(
         block_times[0], p0, v0, a0, pf, vf, af
     ):
         return True
-    return scaled and _step1_in_units(prof, tau, lam, args, valid, block, block_times)
+    if scaled and _step1_in_units(prof, tau, lam, args, valid, block, block_times):
+        return True
+    return _step1_in_place(prof, args, valid, block, block_times)
+
+
+# Limits far beyond a vanishing motion's magnitudes bind nothing; they are capped to
+# stay finite in its units.
+_FAR = 1e300
+
+
+@njit(cache=True, error_model="numpy")
+def _step1_in_place(prof, args, valid, block, block_times):
+    """The fastest profile of a joint whose target is its start, only its velocity changing.
+
+    Where the velocities and accelerations are so small that no length unit makes
+    the move ordinary (braking from 1e-300 rad/s at 1 rad/s^3 takes 2e-150 s and
+    moves 1e-450 rad, below the smallest float64), the velocity change is planned
+    in a unit of velocity instead, as a velocity-interface move; its displacement
+    then rounds to nothing, so the position stays exactly at the target. Refused
+    (False) where it would not.
+    """
+    p0, v0, a0, pf, vf, af, v_max, v_min, a_max, a_min, j_max, control = args
+    if control != POSITION or pf != p0:
+        return False
+    third = math.isfinite(j_max)
+    change = max(abs(v0), abs(vf), abs(vf - v0))
+    push = min(a_max, -a_min)
+    duration = change / push
+    if third:
+        duration = max(duration, math.sqrt(change / j_max), abs(a0) / j_max, abs(af) / j_max)
+    tau = power_of_two(duration)
+    nu = power_of_two(max(change, abs(a0) * tau, abs(af) * tau))
+    a_unit = nu / tau
+    j_unit = a_unit / tau
+    found = _step1_raw(
+        prof,
+        0.0,
+        v0 / nu,
+        a0 / a_unit,
+        0.0,
+        vf / nu,
+        af / a_unit,
+        min(v_max / nu, _FAR),
+        max(v_min / nu, -_FAR),
+        min(a_max / a_unit, _FAR),
+        max(a_min / a_unit, -_FAR),
+        min(j_max / j_unit, _FAR) if third else j_max,
+        VELOCITY,
+        valid,
+        block,
+        block_times,
+    )
+    if not found:
+        return False
+    _from_velocity_units(prof, tau, nu, p0, pf)
+    for k in range(3):
+        _from_velocity_units(block[k], tau, nu, p0, pf)
+    for k in range(5):
+        block_times[k] *= tau
+    return prof[P + 7] == pf and block_times[0] > 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def _from_velocity_units(prof, tau, nu, p0, pf):
+    """A record planned in units ``tau`` (s) and ``nu`` (rad/s), back in absolute ones.
+
+    Positions are integrated anew from ``p0`` (a length unit ``nu * tau`` may not
+    exist in float64).
+    """
+    a_unit = nu / tau
+    j_unit = a_unit / tau
+    for i in range(7):
+        prof[T + i] *= tau
+        prof[T_SUM + i] *= tau
+        prof[J + i] *= j_unit
+    for i in range(8):
+        prof[V + i] *= nu
+        prof[A + i] *= a_unit
+    prof[REC_VF] *= nu
+    prof[REC_AF] *= a_unit
+    prof[BRAKE_DURATION] *= tau
+    p = p0
+    for k in range(2):
+        prof[BRAKE_T + k] *= tau
+        prof[BRAKE_V + k] *= nu
+        prof[BRAKE_A + k] *= a_unit
+        prof[BRAKE_J + k] *= j_unit
+        prof[BRAKE_P + k] = p
+        if prof[BRAKE_T + k] > 0.0:
+            p = integrate(
+                prof[BRAKE_T + k], p, prof[BRAKE_V + k], prof[BRAKE_A + k], prof[BRAKE_J + k]
+            )[0]
+    prof[P] = p
+    for i in range(7):
+        prof[P + i + 1] = integrate(
+            prof[T + i], prof[P + i], prof[V + i], prof[A + i], prof[J + i]
+        )[0]
+    prof[PF] = pf
 
 
 @njit(cache=True, error_model="numpy")
@@ -409,7 +509,9 @@ def _round_up(t, dt):
     """``t`` rounded up to a whole number of periods ``dt`` (exact multiples stay)."""
     remainder = np.fmod(t, dt)
     if remainder > _EPS:
-        return t + dt - remainder
+        # Never below t: a remainder of nearly dt (t a multiple but for rounding)
+        # would otherwise round t down, below the joint's own minimum.
+        return max(t, t + dt - remainder)
     return t
 
 

@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit, prange
 
 from trajkit.profiles._kernels.layout import BRAKE_A, BRAKE_J, BRAKE_T, A, J, T
+from trajkit.profiles._kernels.profile import integrate
 
 PHASES = 9  # two brake phases, seven profile phases
 # Breakpoints closer than this (relative to the duration) are one switch computed
@@ -46,9 +47,13 @@ def phase_states(p0, v0, a0, t, u, second_order, starts, states):
 
     Empty phases get the state where they stand (their successors start there).
     """
-    p, v, a = p0, v0, a0
-    clock = 0.0
-    for k in range(PHASES):
+    return _integrate_from(0, p0, v0, a0, 0.0, t, u, second_order, starts, states)
+
+
+@njit(cache=True, error_model="numpy")
+def _integrate_from(first, p, v, a, clock, t, u, second_order, starts, states):
+    """:func:`phase_states` from phase ``first`` on, starting at ``(p, v, a)`` at ``clock``."""
+    for k in range(first, PHASES):
         tk = t[k]
         if second_order:
             a = u[k] if tk > 0.0 else 0.0
@@ -68,13 +73,104 @@ def phase_states(p0, v0, a0, t, u, second_order, starts, states):
     return clock
 
 
+# Misses of the target position up to this fraction of the positions' size on the way
+# are rounding (a velocity of size 16 carries 4e-15 rad/s of it over a 1e6 s coast).
+LANDING_RTOL = 1e-12
+
+
 @njit(cache=True, error_model="numpy")
-def _joint_tables(start, t, u, second, starts, states, finish):
+def _land(pf, t, u, second_order, starts, states):
+    """Absorb a rounding-level miss of ``pf`` in the velocity of the longest phase.
+
+    Returns False where the phases miss ``pf`` by more than rounding.
+
+    Integrating the phases accumulates rounding over long phases (1e-9 rad after a
+    1e6 s coast that began at 16 rad/s); the longest phase's velocity takes the
+    correction (by 1e-15 rad/s there), and the phases after it end on ``pf``.
+    """
+    longest = 0
+    size = 0.0
+    last = -1
+    for k in range(PHASES):
+        if t[k] > 0.0:
+            last = k
+            if t[k] > t[longest]:
+                longest = k
+            size = max(size, abs(states[k, 0]), abs(states[k, 1]) * t[k])
+    if last < 0:
+        return True
+    p, v, a, j = states[last, 0], states[last, 1], states[last, 2], states[last, 3]
+    tk = t[last]
+    miss = pf - (p + tk * (v + tk * (a / 2.0 + tk * j / 6.0)))
+    if miss == 0.0:
+        return True
+    if not abs(miss) <= LANDING_RTOL * (size + abs(pf)):
+        return False
+    states[longest, 1] += miss / t[longest]
+    tl = t[longest]
+    p, v, a, j = states[longest, 0], states[longest, 1], states[longest, 2], states[longest, 3]
+    _integrate_from(
+        longest + 1,
+        p + tl * (v + tl * (a / 2.0 + tl * j / 6.0)),
+        v + tl * (a + tl * j / 2.0),
+        a + tl * j,
+        starts[longest] + tl,
+        t,
+        u,
+        second_order,
+        starts,
+        states,
+    )
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _anchor_ends(target, t, u, second_order, finish, states, anchors):
+    """Re-express the phases after the longest one from the end state backwards.
+
+    ``states[k]`` of those phases becomes their end state and ``anchors[k]`` their
+    end time (NaN elsewhere: phases described from their start). In absolute time
+    a short last ramp at t = 1e4 s is resolved to about 1e-12 s only; described
+    from its end it still ends exactly in the target state (a velocity limit
+    reached exactly there is not overshot), and the rounding moves to where it
+    meets the long phase, a jump far below any tolerance.
+    """
+    longest = 0
+    for k in range(PHASES):
+        anchors[k] = math.nan
+        if t[k] > t[longest]:
+            longest = k
+    p, v, a = target[0], target[1], target[2]
+    clock = finish
+    for k in range(PHASES - 1, longest, -1):
+        tk = t[k]
+        if not tk > 0.0:
+            continue
+        if second_order:
+            a = u[k]
+            j = 0.0
+        else:
+            j = u[k]
+        states[k, 0] = p
+        states[k, 1] = v
+        states[k, 2] = a
+        states[k, 3] = j
+        anchors[k] = clock
+        p, v, a = integrate(-tk, p, v, a, j)
+        clock -= tk
+
+
+@njit(cache=True, error_model="numpy")
+def _joint_tables(start, target, t, u, second, starts, states, finish, anchors):
     ndof = start.shape[1]
     for d in range(ndof):
         finish[d] = phase_states(
             start[0, d], start[1, d], start[2, d], t[d], u[d], second[d], starts[d], states[d]
         )
+        if _land(target[0, d], t[d], u[d], second[d], starts[d], states[d]):
+            _anchor_ends(target[:, d], t[d], u[d], second[d], finish[d], states[d], anchors[d])
+        else:
+            anchors[d, :] = math.nan  # described from the start: the end check sees the miss
 
 
 @njit(cache=True, error_model="numpy")
@@ -94,7 +190,8 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
     starts = np.empty((ndof, PHASES))
     states = np.empty((ndof, PHASES, 4))
     finish = np.empty(ndof)
-    _joint_tables(start, t, u, second, starts, states, finish)
+    anchors = np.empty((ndof, PHASES))
+    _joint_tables(start, target, t, u, second, starts, states, finish, anchors)
     count = 0
     breakpoints[count] = 0.0
     count += 1
@@ -132,7 +229,9 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
         left = breakpoints[k]
         middle = 0.5 * (left + breakpoints[k + 1])
         for d in range(ndof):
-            p, v, a, j, x = _state_before(d, middle, left, t, starts, states, finish, target)
+            p, v, a, j, x = _state_before(
+                d, middle, left, t, starts, states, anchors, finish, target
+            )
             coefficients[0, k, d] = j / 6.0
             coefficients[1, k, d] = (a + j * x) / 2.0
             coefficients[2, k, d] = v + x * (a + x * j / 2.0)
@@ -143,8 +242,12 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
 
 
 @njit(cache=True, error_model="numpy")
-def _state_before(d, middle, left, t, starts, states, finish, target):
-    """Phase state of joint ``d`` covering ``middle``, and the offset of ``left`` in it."""
+def _state_before(d, middle, left, t, starts, states, anchors, finish, target):
+    """Phase state of joint ``d`` covering ``middle``, and the offset of ``left`` from it.
+
+    The state is the phase's start state, or its end state where it is anchored
+    at its end (:func:`_anchor_ends`).
+    """
     if middle >= finish[d]:
         # Past its own end: from the target, at its velocity, no acceleration.
         return target[0, d], target[1, d], 0.0, 0.0, left - finish[d]
@@ -152,7 +255,8 @@ def _state_before(d, middle, left, t, starts, states, finish, target):
     for q in range(PHASES):
         if t[d, q] > 0.0 and starts[d, q] <= middle:
             phase = q
-    x = left - starts[d, phase]
+    anchor = anchors[d, phase]
+    x = left - (starts[d, phase] if math.isnan(anchor) else anchor)
     return states[d, phase, 0], states[d, phase, 1], states[d, phase, 2], states[d, phase, 3], x
 
 
@@ -160,7 +264,10 @@ def _state_before(d, middle, left, t, starts, states, finish, target):
 def _end_state(target, breakpoints, coefficients, m, finish, duration, second, end):
     """The exact end state where the pieces agree with it (Trajectory's tolerance).
 
-    Returns False where they disagree with a target they must reach.
+    Where they miss it by no more than a shift of their breakpoints by a few units
+    in the last place explains (phases too short for absolute time at this
+    duration), the pieces' own value stands. Returns False where they miss by
+    more: they lost a target they must reach.
     """
     ndof = target.shape[1]
     resolved = True
@@ -175,21 +282,10 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
             c1 + h * (2.0 * c2 + h * 3.0 * c3),
             2.0 * c2 + h * 6.0 * c3,
         )
+        rate = _size(breakpoints, coefficients, m, d, 0)
         for order in range(3):
-            # The size of this derivative's terms anywhere in the motion.
-            scale = 0.0
-            for k in range(m):
-                length = breakpoints[k + 1] - breakpoints[k]
-                size = 0.0
-                power = 1.0
-                for q in range(4 - order):
-                    factor = 1.0
-                    for r in range(order):
-                        factor *= q + order - r
-                    size += abs(coefficients[3 - order - q, k, d] * factor) * power
-                    power *= length
-                if size > scale:
-                    scale = size
+            scale = rate  # the size of this derivative's terms anywhere in the motion
+            rate = _size(breakpoints, coefficients, m, d, order + 1)
             value = target[order, d]
             scale += abs(value)
             if order == 2 and second[d]:
@@ -198,13 +294,38 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
                 BOUNDARY_RTOL * scale + BOUNDARY_ATOL
             ):
                 value = math.nan  # still coasting at its target velocity, elsewhere
-            if abs(value - values[order]) > BOUNDARY_RTOL * scale + BOUNDARY_ATOL:
-                # The pieces lost the target: phases too short for absolute time at
-                # this duration (breakpoints resolve about 2e-16 of it) were merged.
-                resolved = False
+            miss = abs(value - values[order])
+            if miss > BOUNDARY_RTOL * scale + BOUNDARY_ATOL:
+                if not miss <= _TIME_ULPS * _EPS * duration * rate:
+                    resolved = False
                 value = math.nan
             end[order, d] = value
     return resolved
+
+
+# A miss of the end state this many units in the last place of the duration, times
+# the next derivative, is the pieces' rounding in absolute time, not a lost target.
+_TIME_ULPS = 16.0
+_EPS = 2.220446049250313e-16
+
+
+@njit(cache=True, error_model="numpy")
+def _size(breakpoints, coefficients, m, d, order):
+    """The largest size of derivative ``order``'s terms on any of the ``m`` pieces."""
+    scale = 0.0
+    for k in range(m):
+        length = breakpoints[k + 1] - breakpoints[k]
+        size = 0.0
+        power = 1.0
+        for q in range(4 - order):
+            factor = 1.0
+            for r in range(order):
+                factor *= q + order - r
+            size += abs(coefficients[3 - order - q, k, d] * factor) * power
+            power *= length
+        if size > scale:
+            scale = size
+    return scale
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
