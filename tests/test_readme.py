@@ -260,7 +260,8 @@ def test_quick_start_commands_exist():
     # The suite's script installs what the README says: the test extras (and CI's).
     script = (ROOT / "scripts" / "test.sh").read_text(encoding="utf-8")
     assert 'pip install --quiet -e ".[test,sim,scale]"' in script
-    assert 'python -m pytest "$@"' in script
+    assert 'python -m pytest -n auto "$@"' in script  # every core (pytest-xdist)
+    assert "engine.warm()" in script  # compiled once, before the workers start
 
 
 def test_every_shell_line_names_existing_commands_options_and_files(capsys):

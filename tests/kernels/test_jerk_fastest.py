@@ -535,9 +535,12 @@ def test_calculate_block_counts():
     assert ok and tags[0] == 2 and list(times[:3]) == [2.0, 3.0, 4.0]
     ok, tags, times = _block([3.0, 2.0, 4.0, 4.0], [True, True, True, False])
     assert ok and tags[0] == 1 and tags[1] == 2 and list(times[:3]) == [2.0, 3.0, 4.0]
+    # Two of one direction and one duration are one motion (a peak that touches a
+    # limit, and the profile holding it for no time): the later is dropped.
+    ok, tags, times = _block([3.0, 3.0, 4.0, 5.0], [True, True, True, True])
+    assert ok and tags[0] == 0 and list(times[:3]) == [3.0, 4.0, 5.0]
     # Four without a duplicate, zero and six: inconsistent.
     assert not _block([3.0, 2.0, 4.0, 5.0], [True, True, True, False])[0]
-    assert not _block([3.0, 3.0, 4.0, 5.0], [True, True, True, True])[0]
     assert not _block([], [])[0]
     assert not _block([1.0, 2.0, 3.0, 4.0, 5.0, 6.0], [True] * 6)[0]
 

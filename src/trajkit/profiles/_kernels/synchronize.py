@@ -851,89 +851,115 @@ def plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out
     voting = np.empty(n, np.int64)
     for d in range(n):
         voting[d] = SYNC_NONE if roles[d] == _LAW else roles[d]
-    duration, source = _synchronize(block_times, voting, min_duration, dt, candidates, order)
-    if source < 0:
+    # A joint whose laws miss the durations it cannot take (a move of 1e-115 rad at
+    # full speed, whose slowed-down profiles tie with the fastest) fails step 2 at a
+    # duration between its minimum and a blocked interval: that duration is then
+    # blocked too, and the joints synchronize again.
+    for _attempt in range(ndof + 1):
+        retry = False
+        duration, source = _synchronize(block_times, voting, min_duration, dt, candidates, order)
+        if source < 0:
+            for d in range(ndof):
+                if _has_zero_limits(a_max[d], a_min[d], j_max[d]):
+                    return ZERO_LIMITS
+            return SYNC_FAILED
+        limiting = -1
+        if source < 3 * n:
+            limiting = source % n
+            if limiting < ndof:
+                profiles[limiting] = blocks[limiting, source // n]
+        # Joints left out of synchronization move as fast as they can; the longest of
+        # them may set the duration.
+        all_none = True
         for d in range(ndof):
-            if _has_zero_limits(a_max[d], a_min[d], j_max[d]):
-                return ZERO_LIMITS
-        return SYNC_FAILED
-    limiting = -1
-    if source < 3 * n:
-        limiting = source % n
-        if limiting < ndof:
-            profiles[limiting] = blocks[limiting, source // n]
-    # Joints left out of synchronization move as fast as they can; the longest of
-    # them may set the duration.
-    all_none = True
-    for d in range(ndof):
-        if roles[d] != SYNC_NONE:
-            all_none = False
-        if enabled[d] != 0 and roles[d] == SYNC_NONE:
-            profiles[d] = blocks[d, 0]
-            own = _round_up(block_times[d, 0], dt) if discrete else block_times[d, 0]
-            if own > duration:
-                duration = own
-                limiting = d
-    out[OUT_DURATION] = duration
-    out[OUT_LIMITING] = limiting if limiting < ndof else -1
-    if duration == 0.0:
-        for d in range(ndof):
-            profiles[d] = blocks[d, 0]
-        return OK
-    if not discrete and all_none:
-        return OK
+            if roles[d] != SYNC_NONE:
+                all_none = False
+            if enabled[d] != 0 and roles[d] == SYNC_NONE:
+                profiles[d] = blocks[d, 0]
+                own = _round_up(block_times[d, 0], dt) if discrete else block_times[d, 0]
+                if own > duration:
+                    duration = own
+                    limiting = d
+        out[OUT_DURATION] = duration
+        out[OUT_LIMITING] = limiting if limiting < ndof else -1
+        if duration == 0.0:
+            for d in range(ndof):
+                profiles[d] = blocks[d, 0]
+            return OK
+        if not discrete and all_none:
+            return OK
 
-    if use_law:
-        law[:] = blocks[ndof, 0]
-        if not _take_duration(
-            law,
-            blocks[ndof],
-            block_times[ndof],
-            duration,
-            law_m[V_MAX, 0],
-            law_m[V_MIN, 0],
-            law_m[A_MAX, 0],
-            law_m[A_MIN, 0],
-            law_m[J_MAX, 0],
-            POSITION,
-            limiting == ndof and not discrete,
-        ):
-            out[OUT_JOINT] = -1
-            return STEP2_FAILED
-        for d in range(ndof):
-            if roles[d] == _LAW:
-                _scaled_law(law, scale[d], m, d, profiles[d])
+        if use_law:
+            law[:] = blocks[ndof, 0]
+            if not _take_duration(
+                law,
+                blocks[ndof],
+                block_times[ndof],
+                duration,
+                law_m[V_MAX, 0],
+                law_m[V_MIN, 0],
+                law_m[A_MAX, 0],
+                law_m[A_MIN, 0],
+                law_m[J_MAX, 0],
+                POSITION,
+                limiting == ndof and not discrete,
+            ):
+                out[OUT_JOINT] = -1
+                return STEP2_FAILED
+            for d in range(ndof):
+                if roles[d] == _LAW:
+                    _scaled_law(law, scale[d], m, d, profiles[d])
 
-    for d in range(ndof):
-        if enabled[d] == 0 or roles[d] == _LAW:
-            continue
-        if (d == limiting or roles[d] == SYNC_NONE) and not discrete:
-            continue
-        prof = profiles[d]
-        if roles[d] == SYNC_TIME_IF_NECESSARY and abs(vf[d]) < _EPS and abs(af[d]) < _EPS:
-            prof[:] = blocks[d, 0]
-            continue
-        if roles[d] == SYNC_NONE:
-            # Discrete durations: a joint on its own still ends on the grid.
-            own = _round_up(block_times[d, 0], dt)
-        else:
-            own = duration
-        if not _take_duration(
-            prof,
-            blocks[d],
-            block_times[d],
-            own,
-            v_max[d],
-            v_min[d],
-            a_max[d],
-            a_min[d],
-            j_max[d],
-            control[d],
-            False,
-        ):
-            out[OUT_JOINT] = d
-            return STEP2_FAILED
-    return OK
+        for d in range(ndof):
+            if enabled[d] == 0 or roles[d] == _LAW:
+                continue
+            if (d == limiting or roles[d] == SYNC_NONE) and not discrete:
+                continue
+            prof = profiles[d]
+            if roles[d] == SYNC_TIME_IF_NECESSARY and abs(vf[d]) < _EPS and abs(af[d]) < _EPS:
+                prof[:] = blocks[d, 0]
+                continue
+            if roles[d] == SYNC_NONE:
+                # Discrete durations: a joint on its own still ends on the grid.
+                own = _round_up(block_times[d, 0], dt)
+            else:
+                own = duration
+            if not _take_duration(
+                prof,
+                blocks[d],
+                block_times[d],
+                own,
+                v_max[d],
+                v_min[d],
+                a_max[d],
+                a_min[d],
+                j_max[d],
+                control[d],
+                False,
+            ):
+                out[OUT_JOINT] = d
+                if roles[d] != SYNC_NONE and _widen_blocked(block_times[d], duration):
+                    retry = True
+                    break
+                return STEP2_FAILED
+        if not retry:
+            return OK
+    return STEP2_FAILED
+
+
+@njit(cache=True, error_model="numpy")
+def _widen_blocked(times, duration):
+    """Block ``duration`` for a joint that could not take it; False if it cannot be.
+
+    Only a duration between the joint's minimum and the left end of one of its
+    blocked intervals is: that interval then starts at the minimum.
+    """
+    for k in (1, 3):
+        left = times[k]
+        if not math.isinf(left) and times[0] < duration <= left:
+            times[k] = times[0]
+            return True
+    return False
 
 
 @njit(cache=True, error_model="numpy")

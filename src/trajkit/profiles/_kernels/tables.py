@@ -225,13 +225,27 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
         breakpoints[1] = duration
         merged = 2
     m = merged - 1
+    # Each joint's phase covering the piece: the pieces come in time order, so a
+    # cursor per joint only moves on.
+    phase = np.zeros(ndof, np.int64)
     for k in range(m):
         left = breakpoints[k]
         middle = 0.5 * (left + breakpoints[k + 1])
         for d in range(ndof):
-            p, v, a, j, x = _state_before(
-                d, middle, left, t, starts, states, anchors, finish, target
-            )
+            if middle >= finish[d]:
+                # Past its own end: from the target, at its velocity, no acceleration.
+                p, v, a, j, x = target[0, d], target[1, d], 0.0, 0.0, left - finish[d]
+            else:
+                q = phase[d]
+                for r in range(q + 1, PHASES):
+                    if starts[d, r] > middle:
+                        break  # phases start in time order
+                    if t[d, r] > 0.0:
+                        q = r
+                phase[d] = q
+                p, v, a, j = states[d, q, 0], states[d, q, 1], states[d, q, 2], states[d, q, 3]
+                anchor = anchors[d, q]
+                x = left - (starts[d, q] if math.isnan(anchor) else anchor)
             coefficients[0, k, d] = j / 6.0
             coefficients[1, k, d] = (a + j * x) / 2.0
             coefficients[2, k, d] = v + x * (a + x * j / 2.0)
@@ -239,25 +253,6 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
     if not _end_state(target, breakpoints, coefficients, m, finish, duration, second, end):
         return -m
     return m
-
-
-@njit(cache=True, error_model="numpy")
-def _state_before(d, middle, left, t, starts, states, anchors, finish, target):
-    """Phase state of joint ``d`` covering ``middle``, and the offset of ``left`` from it.
-
-    The state is the phase's start state, or its end state where it is anchored
-    at its end (:func:`_anchor_ends`).
-    """
-    if middle >= finish[d]:
-        # Past its own end: from the target, at its velocity, no acceleration.
-        return target[0, d], target[1, d], 0.0, 0.0, left - finish[d]
-    phase = 0
-    for q in range(PHASES):
-        if t[d, q] > 0.0 and starts[d, q] <= middle:
-            phase = q
-    anchor = anchors[d, phase]
-    x = left - (starts[d, phase] if math.isnan(anchor) else anchor)
-    return states[d, phase, 0], states[d, phase, 1], states[d, phase, 2], states[d, phase, 3], x
 
 
 @njit(cache=True, error_model="numpy")
@@ -282,10 +277,10 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
             c1 + h * (2.0 * c2 + h * 3.0 * c3),
             2.0 * c2 + h * 6.0 * c3,
         )
-        rate = _size(breakpoints, coefficients, m, d, 0)
+        sizes = _sizes(breakpoints, coefficients, m, d)
         for order in range(3):
-            scale = rate  # the size of this derivative's terms anywhere in the motion
-            rate = _size(breakpoints, coefficients, m, d, order + 1)
+            scale = sizes[order]  # the size of this derivative's terms anywhere in the motion
+            rate = sizes[order + 1]
             value = target[order, d]
             scale += abs(value)
             if order == 2 and second[d]:
@@ -310,22 +305,20 @@ _EPS = 2.220446049250313e-16
 
 
 @njit(cache=True, error_model="numpy")
-def _size(breakpoints, coefficients, m, d, order):
-    """The largest size of derivative ``order``'s terms on any of the ``m`` pieces."""
-    scale = 0.0
+def _sizes(breakpoints, coefficients, m, d):
+    """The largest size of each derivative's terms (orders 0 to 3) on the ``m`` pieces."""
+    p = v = a = j = 0.0
     for k in range(m):
-        length = breakpoints[k + 1] - breakpoints[k]
-        size = 0.0
-        power = 1.0
-        for q in range(4 - order):
-            factor = 1.0
-            for r in range(order):
-                factor *= q + order - r
-            size += abs(coefficients[3 - order - q, k, d] * factor) * power
-            power *= length
-        if size > scale:
-            scale = size
-    return scale
+        h = breakpoints[k + 1] - breakpoints[k]
+        c3 = abs(coefficients[0, k, d])
+        c2 = abs(coefficients[1, k, d])
+        c1 = abs(coefficients[2, k, d])
+        c0 = abs(coefficients[3, k, d])
+        p = max(p, c0 + h * (c1 + h * (c2 + h * c3)))
+        v = max(v, c1 + h * (2.0 * c2 + h * 3.0 * c3))
+        a = max(a, 2.0 * c2 + h * 6.0 * c3)
+        j = max(j, 6.0 * c3)
+    return p, v, a, j
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
