@@ -31,3 +31,14 @@ settings.register_profile(
     print_blob=True,
 )
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci" if os.environ.get("CI") else "dev"))
+
+if settings().derandomize:
+    # Hypothesis also draws constants found in the modules loaded so far: under
+    # pytest-xdist which tests a worker ran before decides them, and with them the
+    # "same" examples. CI keeps its examples independent of the scheduling.
+    try:
+        from hypothesis.internal.conjecture import providers
+
+        providers._get_local_constants = lambda: providers._local_constants
+    except (ImportError, AttributeError):  # a Hypothesis without the feature
+        pass
