@@ -285,10 +285,14 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
             scale += abs(value)
             if order == 2 and second[d]:
                 value = math.nan  # a trapezoid's acceleration jumps: no exact value
-            elif order == 0 and abs(target[1, d] * (duration - finish[d])) > (
-                BOUNDARY_RTOL * scale + BOUNDARY_ATOL
+            elif (
+                order == 0
+                and target[1, d] != 0.0
+                and duration - finish[d] > _TIME_ULPS * _EPS * duration
             ):
-                value = math.nan  # still coasting at its target velocity, elsewhere
+                # Still coasting at its target velocity, elsewhere (whatever the size
+                # of the terms, whose rounding tolerance could hide the coast).
+                value = math.nan
             miss = abs(value - values[order])
             if miss > BOUNDARY_RTOL * scale + BOUNDARY_ATOL:
                 if not miss <= _TIME_ULPS * _EPS * duration * rate:
