@@ -206,23 +206,28 @@ def batch_calls(p: dict[str, np.ndarray], count: int, dt_count: int, repeats: in
 
     lim = (p["vmax"], p["amax"], p["jmax"])
 
-    def plan(n: int, dt: float | None):
+    def plan(n: int, dt: float | None, grid: str = "switches"):
         return lambda: tk.batch.scurve(
-            p["q0"][:n], p["qf"][:n], *lim, v0=p["v0"][:n], vf=p["vf"][:n], dt=dt
+            p["q0"][:n], p["qf"][:n], *lim, v0=p["v0"][:n], vf=p["vf"][:n], dt=dt, grid=grid
         )
 
     threads = numba.get_num_threads()
     header("batch, random v0 and vf", "problems per second, 1e3")
-    for label, n, dt in (("4 tk.batch.scurve", count, None), ("5 with dt=0.001", dt_count, DT)):
-        ours_d = plan(n, dt)().durations
+    cases = (
+        ("4 tk.batch.scurve", count, None, "switches"),
+        ("5 with dt=0.001", dt_count, DT, "switches"),
+        ("5b dt, grid='duration'", count, DT, "duration"),  # ruckig's discrete durations
+    )
+    for label, n, dt, grid in cases:
+        ours_d = plan(n, dt, grid)().durations
         speeds = []
         for k in sorted({threads, 1}, reverse=True):
             numba.set_num_threads(k)
-            speeds.append((k, n / median_seconds(plan(n, dt), repeats)))
+            speeds.append((k, n / median_seconds(plan(n, dt, grid), repeats)))
         numba.set_num_threads(threads)
         seconds, theirs_d = ruckig_loop(ruckig_planner(p, moving=True, dt=dt), n, repeats)
         theirs = n / seconds
-        if dt is None:
+        if dt is None or grid == "duration":
             diff: float | str = max_rel_diff(ours_d, theirs_d)
             diff = f"{diff:.2e}"
         else:
@@ -234,7 +239,7 @@ def batch_calls(p: dict[str, np.ndarray], count: int, dt_count: int, repeats: in
                 f"{label + f', B={n}, {k} thread(s)':<44}{speed / 1e3:>10.2f}"
                 f"{theirs / 1e3:>10.2f}{speed / theirs:>8.2f}{diff:>14}"
             )
-        if dt is not None:
+        if dt is not None and grid == "switches":
             grid_check(p, n, dt, ours_d, theirs_d, periods)
 
 
