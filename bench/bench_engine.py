@@ -106,22 +106,13 @@ def per_call(
     clock = time.perf_counter
     ours_t, theirs_t = np.empty((repeats, count)), np.empty((repeats, count))
     ours_d, theirs_d = np.empty(count), np.empty(count)
+    sides = ((ours, ours_t, ours_d), (theirs, theirs_t, theirs_d))
     for r in range(repeats):
         for i in range(count):
-            if (r + i) % 2:  # alternate who goes first
-                start = clock()
-                theirs_d[i] = theirs(i)
-                middle = clock()
-                ours_d[i] = ours(i)
-                end = clock()
-                theirs_t[r, i], ours_t[r, i] = middle - start, end - middle
-            else:
-                start = clock()
-                ours_d[i] = ours(i)
-                middle = clock()
-                theirs_d[i] = theirs(i)
-                end = clock()
-                ours_t[r, i], theirs_t[r, i] = middle - start, end - middle
+            for plan, times, durations in sides[::-1] if (r + i) % 2 else sides:
+                start = clock()  # the two alternate going first
+                durations[i] = plan(i)
+                times[r, i] = clock() - start
     return float(np.median(ours_t)), float(np.median(theirs_t)), ours_d, theirs_d
 
 

@@ -660,7 +660,7 @@ def _keep_gentlest(best, row, speed, best_speed):
 # The fallback's units come from the whole motion (|vf| * tf may be 100 rad while
 # the joint stays within 1e-6 rad of its target): its candidates must also land
 # within this fraction of the distance they actually travel.
-LANDING_RTOL = 1e-9
+EXCURSION_RTOL = 1e-9
 
 
 @njit(cache=True, error_model="numpy")
@@ -675,7 +675,7 @@ def _lands(row, tf):
     for i in range(1, 8):
         excursion = max(excursion, abs(row[P + i] - row[P]))
         speed = max(speed, abs(row[V + i - 1]))
-    tolerance = LANDING_RTOL * excursion + 8.0 * EPS * speed * tf
+    tolerance = EXCURSION_RTOL * excursion + 8.0 * EPS * speed * tf
     return abs(row[P + 7] - row[PF]) <= tolerance
 
 

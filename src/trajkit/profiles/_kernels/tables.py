@@ -75,7 +75,7 @@ def _integrate_from(first, p, v, a, clock, t, u, second_order, starts, states):
 
 # Misses of the target position up to this fraction of the positions' size on the way
 # are rounding (a velocity of size 16 carries 4e-15 rad/s of it over a 1e6 s coast).
-LANDING_RTOL = 1e-12
+ROUNDING_MISS_RTOL = 1e-12
 
 
 @njit(cache=True, error_model="numpy")
@@ -104,7 +104,7 @@ def _land(pf, t, u, second_order, starts, states):
     miss = pf - (p + tk * (v + tk * (a / 2.0 + tk * j / 6.0)))
     if miss == 0.0:
         return True
-    if not abs(miss) <= LANDING_RTOL * (size + abs(pf)):
+    if not abs(miss) <= ROUNDING_MISS_RTOL * (size + abs(pf)):
         return False
     states[longest, 1] += miss / t[longest]
     tl = t[longest]
