@@ -357,6 +357,36 @@ def online(p: dict[str, np.ndarray], moves: int, cycles: int, repeats: int) -> N
             f"in {calculations}"
         )
     print(f"  {'; '.join(notes)}; trajkit plans every cycle; last column: largest |q| gap")
+    ours, theirs = cycle_times(p, online_targets(p, cycles))
+    print(
+        "  target moving, each cycle timed alone (us): trajkit median "
+        f"{np.median(ours):.2f}, p99 {np.percentile(ours, 99):.2f}; ruckig median "
+        f"{np.median(theirs):.2f}, p99 {np.percentile(theirs, 99):.2f}; p99 ratio "
+        f"{np.percentile(theirs, 99) / np.percentile(ours, 99):.2f}"
+    )
+
+
+def cycle_times(p: dict[str, np.ndarray], targets: list) -> tuple[np.ndarray, np.ndarray]:
+    """Each control cycle's update timed on its own (moving target), both libraries."""
+    from ruckig import InputParameter, OutputParameter, Ruckig
+
+    gen = tk.online.Generator(NDOF, DT, p["vmax"], p["amax"], p["jmax"], position=p["q0"][0])
+    otg, inp, out = Ruckig(NDOF, DT), InputParameter(NDOF), OutputParameter(NDOF)
+    inp.max_velocity = p["vmax"].tolist()
+    inp.max_acceleration = p["amax"].tolist()
+    inp.max_jerk = p["jmax"].tolist()
+    inp.current_position = p["q0"][0].tolist()
+    clock = time.perf_counter
+    ours, theirs = np.empty(len(targets)), np.empty(len(targets))
+    for k, target in enumerate(targets):
+        start = clock()
+        gen.update(target)
+        middle = clock()
+        inp.target_position = target
+        otg.update(inp, out)
+        out.pass_to_input(inp)
+        ours[k], theirs[k] = middle - start, clock() - middle
+    return ours * 1e6, theirs * 1e6
 
 
 def main() -> None:

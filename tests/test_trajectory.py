@@ -968,6 +968,75 @@ def test_extrema_refuses_bad_orders(order: object) -> None:
         tr.extrema(order)  # type: ignore[arg-type]
 
 
+# ---------------------------------------------------------------- first_time_at
+
+
+def test_first_time_at_matches_ruckigs_hand_case() -> None:
+    # ruckig's own test (test_target.cpp, "first-time-at-position"): its values to 1e-10.
+    tr = tk.scurve([0.0, -2.0, 0.0], [1.0, -3.0, 2.0], 1.0, 1.0, 1.0, vf=[0.0, 0.3, 0.0])
+    assert tr.duration == pytest.approx(4.0, rel=1e-12)
+    np.testing.assert_allclose(
+        tr.first_time_at([0.5, -3.0, 0.05]), [2.0, 2.6004877902, 0.6694329501], atol=1e-10
+    )
+    assert tr.first_time_at([0.0, -2.0, 0.0]).tolist() == [0.0, 0.0, 0.0]
+    assert tr.first_time_at(-3.1)[1] == pytest.approx(2.8644154489, abs=1e-10)
+    never = tr.first_time_at([-1.0, -3.4, 2.5])
+    assert np.isnan(never).all()
+
+
+def test_first_time_at_a_flat_arrival_is_within_its_conditioning() -> None:
+    # Joint 0 arrives at rest: q - qf ~ -(T - t)^3 / 6, below one ulp of qf for the
+    # last (6 ulp)^(1/3) ~ 9e-6 s. The time is as well defined as that, no better.
+    tr = tk.scurve([0.0], [1.0], 1.0, 1.0, 1.0, duration=4.0)
+    found = tr.first_time_at(1.0)[0]
+    assert 4.0 - 2e-5 <= found <= 4.0
+    assert tr.evaluate(found)[0] == pytest.approx(1.0, rel=4e-16)
+
+
+def test_first_time_at_a_velocity_and_per_joint_values() -> None:
+    tr = cubic_rest_to_rest([0.0, 0.0], [1.0, -2.0], 2.0)
+    # q' = 6 D (t/T - t^2/T^2) / T: 0.5 of its peak 1.5 D / T first at t = T (1 - 1/sqrt 2) / 2.
+    first = 2.0 * (1.0 - 1.0 / np.sqrt(2.0)) / 2.0
+    times = tr.first_time_at([0.375, -0.75], order=1)
+    np.testing.assert_allclose(times, [first, first], rtol=CLOSED_FORM)
+    # A value reached only at the exact end.
+    np.testing.assert_allclose(tr.first_time_at([1.0, -2.0]), [2.0, 2.0], atol=2e-5)
+
+
+@given(continuous_trajectories(), st.floats(0.0, 1.0))
+def test_first_time_at_is_reached_and_nothing_earlier(tr: Trajectory, fraction: float) -> None:
+    ext = tr.extrema(0)
+    value = ext.minimum + fraction * (ext.maximum - ext.minimum)
+    times = tr.first_time_at(value)
+    assert np.all(np.isfinite(times)), times  # every value between the extremes is taken
+    assert np.all((times >= tr.start_time) & (times <= tr.end_time))
+    scale = np.max(np.abs(tr.coefficients), axis=(0, 1)) * (1 + tr.duration) ** 3 + UNDERFLOW
+    for j in range(tr.ndof):
+        at = tr.evaluate(times[j])[j]
+        assert abs(at - value[j]) <= 1e-9 * scale[j], (j, at, value[j])
+        before = np.linspace(tr.start_time, times[j], 200)[:-1]
+        side = tr.evaluate(before)[:, j] - value[j]
+        # No crossing before: every earlier sample on the start's side (or touching).
+        start_side = np.sign(side[0])
+        assert np.all(side * start_side >= -1e-9 * scale[j]), j
+
+
+@pytest.mark.parametrize(
+    ("value", "match"),
+    [
+        (np.nan, r"value must be finite"),
+        ([0.0, 1.0, 2.0], r"value must be a number or 2 numbers \(one per joint\)"),
+        ("a", r"value"),
+    ],
+)
+def test_first_time_at_refuses_bad_values(value: object, match: str) -> None:
+    tr = cubic_rest_to_rest([0.0, 0.0], [1.0, 1.0], 1.0)
+    with _raises_invalid(match):
+        tr.first_time_at(value)  # type: ignore[arg-type]
+    with _raises_invalid(r"order must be a whole number >= 0"):
+        tr.first_time_at(0.5, order=-1)
+
+
 # ---------------------------------------- jumps and continuity (issue 16, item 1)
 
 

@@ -29,6 +29,7 @@ from trajkit.profiles import (
     scurve,
     septic,
     trapezoidal,
+    velocity_change,
 )
 from trajkit.samples import Samples
 from trajkit.time_optimal import topp
@@ -65,6 +66,7 @@ __all__ = [
     "septic",
     "topp",
     "trapezoidal",
+    "velocity_change",
 ]
 
 # Submodules that pull in heavy libraries (matplotlib) load on first use only.

@@ -15,7 +15,7 @@ FloatArray = NDArray[np.float64]
 
 # A leading coefficient this small against the largest one (on the unit interval)
 # is rounding noise, not a real degree: trimming it changes values by < 1e-13 relative.
-_DEGREE_TRIM = 1e-13
+DEGREE_TRIM = 1e-13
 
 
 def derivative(c: FloatArray, order: int = 1) -> FloatArray:
@@ -92,7 +92,7 @@ def extrema_on_intervals(
     if k >= 2:
         slope = derivative(unit, 1)  # degree k - 1 in u
         magnitude = np.max(np.abs(slope), axis=0)
-        significant = np.abs(slope) > _DEGREE_TRIM * magnitude
+        significant = np.abs(slope) > DEGREE_TRIM * magnitude
         # Index of the first significant coefficient gives the effective degree.
         first = np.where(significant.any(axis=0), significant.argmax(axis=0), k - 1)
         degree = (k - 1) - first

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
 from collections.abc import Mapping
@@ -19,6 +20,7 @@ from trajkit._validation import (
     finite_array,
     finite_result,
     increasing_times,
+    joint_vector,
     positive_scalar,
 )
 from trajkit.errors import ContinuityWarning, InvalidInputError
@@ -593,6 +595,67 @@ class Trajectory:
             time_of_maximum=np.minimum(starts[i_high] + x_high[i_high, joints], stops[i_high]),
         )
 
+    def first_time_at(self, value: ArrayLike, order: int = 0) -> FloatArray:
+        """Earliest time at which each joint's ``order``-th derivative equals ``value``.
+
+        Parameters
+        ----------
+        value : float or array_like, shape (ndof,)
+            The value sought (units of the trajectory per second**order), one for
+            every joint or one per joint.
+        order : int
+            Derivative order: 0 position (the default), 1 velocity, ...
+
+        Returns
+        -------
+        ndarray, shape (ndof,)
+            Time (s) of the first crossing or touch per joint; NaN where the joint
+            never takes the value.
+
+        Notes
+        -----
+        Exact up to rounding: the first piece whose exact range (see
+        :meth:`extrema`) contains the value is split at its turning points and the
+        first monotone part containing it is solved by bracketing (Brent). The
+        exact start and end states count, so a joint's own target position is
+        found at its end even where the pieces stop one rounding short of it.
+        """
+        from scipy.optimize import brentq
+
+        _check_order(order)
+        target = joint_vector("value", value, self.ndof)
+        c = self._coefficients_of(int(order))
+        k1, m, ndof = c.shape
+        shifted = c.copy()
+        shifted[-1] -= target  # roots of q(t) - value
+        lengths = np.diff(self._breakpoints)
+        low, _, high, _ = _poly.extrema_on_intervals(
+            shifted.reshape(k1, m * ndof), np.repeat(lengths, ndof)
+        )
+        # The exact range is computed with rounding: a value at an extreme is in it
+        # up to a few ulps of the terms (the root search then finds the touch).
+        size = (
+            np.abs(shifted)
+            * lengths[np.newaxis, :, np.newaxis]
+            ** np.arange(k1 - 1, -1, -1)[:, np.newaxis, np.newaxis]
+        )
+        slack = _TOUCH_ULPS * np.finfo(float).eps * (size.sum(axis=0) + np.abs(target))
+        contains = (low.reshape(m, ndof) <= slack) & (high.reshape(m, ndof) >= -slack)
+        times = np.full(ndof, np.nan)
+        ends = (self.evaluate(self.start_time, order), self.evaluate(self.end_time, order))
+        for d in range(ndof):
+            if ends[0][d] == target[d]:
+                times[d] = self.start_time
+                continue
+            found = np.flatnonzero(contains[:, d])
+            if found.size:
+                i = int(found[0])
+                x = _first_root(shifted[:, i, d], float(lengths[i]), brentq)
+                times[d] = min(self._breakpoints[i] + x, self._breakpoints[i + 1])
+            elif ends[1][d] == target[d]:
+                times[d] = self.end_time
+        return times
+
     def jumps(self, order: int = 0, *, rtol: float = JUMP_RTOL) -> FloatArray:
         """Jump of the ``order``-th derivative at each interior breakpoint.
 
@@ -695,6 +758,46 @@ def _scale_rows(state: FloatArray | None, factor: float) -> FloatArray | None:
     if state is None:
         return None
     return state / factor ** np.arange(state.shape[0])[:, np.newaxis]
+
+
+# A value this many ulps (of the terms summed) outside a piece's computed range
+# still counts as touched: the range and the value carry that much rounding.
+_TOUCH_ULPS = 8
+
+
+def _first_root(c: FloatArray, length: float, brentq: Any) -> float:
+    """Smallest x in [0, length] where the polynomial ``c`` (highest power first) is 0.
+
+    The caller knows the polynomial takes 0 there (up to rounding). Works on the unit
+    interval (as :func:`trajkit._poly.extrema_on_intervals` does): split at the
+    turning points, bracket the first sign change; where rounding keeps a touch
+    at a turning point off zero, the point nearest zero is the answer.
+    """
+    unit = _poly.scale_argument(c[:, np.newaxis], np.array([length]))[:, 0]
+    slope = _poly.derivative(unit[:, np.newaxis], 1)[:, 0]
+    turns: list[float] = []
+    magnitude = np.max(np.abs(slope)) if slope.size else 0.0
+    if magnitude > 0.0 and slope.size > 1:
+        significant = np.flatnonzero(np.abs(slope) > _poly.DEGREE_TRIM * magnitude)
+        trimmed = slope[significant[0] :] / magnitude
+        if trimmed.size > 1:
+            roots = np.roots(trimmed)
+            turns = sorted(float(r.real) for r in roots if abs(r.imag) <= 1e-9 and 0 < r.real < 1)
+    edges = [0.0, *turns, 1.0]
+
+    def f(u: float) -> float:
+        return float(np.polyval(unit, u))
+
+    for a, b in itertools.pairwise(edges):
+        fa, fb = f(a), f(b)
+        if fa == 0.0:
+            return a * length
+        if (fa < 0.0) != (fb < 0.0) and fb != 0.0:
+            return float(brentq(f, a, b, xtol=1e-16, rtol=4 * np.finfo(float).eps)) * length
+        if fb == 0.0:
+            return b * length
+    values = [abs(f(u)) for u in edges]
+    return edges[int(np.argmin(values))] * length
 
 
 def _check_order(order: object) -> None:

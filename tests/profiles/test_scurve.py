@@ -268,3 +268,26 @@ def test_vanishing_start_velocity_of_a_still_joint():
         v0=np.array([1.11253693e-308, 1.0]), vf=np.array([0.0, 1.0]), sync="time",
     )  # fmt: skip
     assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0, jerk=1.0)).ok
+
+
+def test_the_pieces_themselves_end_on_the_target_beyond_the_laws_precision():
+    # Drawn by ruckig's randomizer (tests/oracles/test_oracle_randomizer.py): joint 1's
+    # time-synchronized profile reached its target within the laws' precision only
+    # (the pieces ended 9.5e-9 rad short, hidden by the exact end state). The
+    # durations are now polished: the polynomial itself ends on the target.
+    q0 = [0.9514162750078032, 1.7095983446980965, -2.8422105586485724]
+    qf = [-0.3323272474833001, 3.5253780846300735, -1.5645240048072497]
+    v0 = [-0.16487964685716375, -0.7813854569449351, 0.0]
+    vf = [-0.7038482975124969, -1.09789847612293, 0.9738802269507607]
+    a0 = [0.20755222564366294, 1.4684965112765693, 0.7623268622030934]
+    af = [0.0, 0.2999466520833924, 0.0]
+    vmax = [15.636203830524524, 13.550884530658267, 4.726542486210625]
+    amax = [8.735931582707376, 9.077940519530584, 13.46854957750838]
+    jmax = [11.821814338811505, 13.504990885175616, 5.599217895494482]
+    tr = tk.scurve(q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af)
+    pieces = tk.Trajectory(tr.breakpoints, tr.coefficients)  # the polynomial alone
+    T = tr.end_time
+    np.testing.assert_allclose(pieces.position(T), qf, rtol=0, atol=1e-12 * 3.6)
+    np.testing.assert_allclose(pieces.velocity(T), vf, rtol=0, atol=1e-12 * 15.6)
+    np.testing.assert_allclose(pieces.acceleration(T), af, rtol=0, atol=1e-12 * 13.5)
+    assert tr.check(tk.Limits(velocity=vmax, acceleration=amax, jerk=jmax)).ok

@@ -1256,3 +1256,17 @@ def test_subnormal_distance_with_a_moving_end(sync):
     )  # fmt: skip
     assert tr.check(tk.Limits(velocity=1.0, acceleration=0.03125)).ok
     np.testing.assert_allclose(tr.end_state.velocity, [1.0, 0.0, 0.0, 0.0], atol=1e-12)
+
+
+def test_a_joint_that_must_end_moving_where_it_started_creeps_forward_first():
+    # Found by hypothesis: joint 2 starts and ends at 0, ending at -1e-5 rad/s, within
+    # the 11.3 s of joint 1. Standing still and then ramping down ends 1.6e-9 rad
+    # short, inside the laws' absolute precision (1e-8), and the plan was refused as
+    # "too long for absolute time". It must first creep forward for 4.5e-9 s.
+    tr = tk.trapezoidal([0.0, 0.0], [1.0, 0.0], vmax=1.0, amax=0.03125, vf=[0.0, -1e-5])
+    pieces = tk.Trajectory(tr.breakpoints, tr.coefficients)  # the polynomial alone
+    T = tr.end_time
+    np.testing.assert_allclose(pieces.position(T), [1.0, 0.0], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(pieces.velocity(T), [0.0, -1e-5], rtol=0, atol=1e-15)
+    assert tr.extrema(0).maximum[1] > 0.0  # the creep forward
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=0.03125)).ok

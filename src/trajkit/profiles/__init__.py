@@ -4,6 +4,7 @@ from trajkit.profiles.blend import blended
 from trajkit.profiles.polynomial import cubic, polynomial, quintic, septic
 from trajkit.profiles.scurve import scurve
 from trajkit.profiles.trapezoidal import trapezoidal
+from trajkit.profiles.velocity import velocity_change
 from trajkit.profiles.via import cubic_spline, cubic_via, quintic_via
 
 __all__ = [
@@ -18,6 +19,7 @@ __all__ = [
     "scurve",
     "septic",
     "trapezoidal",
+    "velocity_change",
 ]
 
 #: The rest-to-rest planners by the profile names of the command line and scenario files.

@@ -309,11 +309,13 @@ def solve(
     min_duration: float | None = None,
     dt: float | None = None,
     grid: str = "switches",
+    velocity_only: bool = False,
 ) -> engine.EngineResult:
     """Plan ``p``; ``duration`` exact (refused if impossible), ``min_duration`` a floor.
 
     With ``dt``, ``grid`` puts every switching time (``"switches"``) or only the
-    duration (``"duration"``) on the period grid.
+    duration (``"duration"``) on the period grid. ``velocity_only`` plans to the
+    target velocity and acceleration with no position target (``qf`` unused).
     """
     grid = choice("grid", grid, GRIDS)
     if duration is not None and min_duration is not None:
@@ -324,7 +326,7 @@ def solve(
     elif min_duration is not None:
         floor = positive_scalar("min_duration", min_duration, unit="s")
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
-    control = np.zeros(p.ndof, np.int64)
+    control = np.full(p.ndof, int(velocity_only), np.int64)  # 0 position, 1 velocity
     codes = p.sync
     if duration is not None:
         # An exact duration is every joint's: none is left to move on its own.
@@ -343,7 +345,7 @@ def solve(
                 f"{_limits_text(p, joint)} (joint {joint + 1})"
             )
         if total > floor * (1 + 1e-12) + (0.0 if step is None else step):
-            joint = _blocked_joint(planner, p, floor)
+            joint = _blocked_joint(planner, p, floor, int(velocity_only))
             raise InfeasibleError(
                 f"duration {floor:.6g} s cannot be met exactly: joint {joint + 1} cannot take "
                 f"it with its boundary velocities; the next duration that works is "
@@ -365,14 +367,14 @@ def _limits_text(p: Problem, joint: int) -> str:
     )
 
 
-def _blocked_joint(planner: str, p: Problem, duration: float) -> int:
+def _blocked_joint(planner: str, p: Problem, duration: float, control: int = 0) -> int:
     """The first joint that cannot take ``duration`` on its own (for a message)."""
     for joint in range(p.ndof):
         alone = np.ascontiguousarray(p.matrix[:, joint : joint + 1])
         result = engine.solve(
             planner,
             alone,
-            control=np.zeros(1, np.int64),
+            control=np.full(1, control, np.int64),
             sync=np.zeros(1, np.int64),
             min_duration=duration,
         )

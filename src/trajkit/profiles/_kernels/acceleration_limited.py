@@ -580,15 +580,17 @@ def timed(prof, tf, v_max, v_min, a_max, a_min):
     v0 = prof[V]
     vf = prof[VF]
     pd = prof[PF] - prof[P]
-    # The direction of the displacement is the likely one: try it first.
+    # The direction of the displacement is the likely one: try it first. A profile
+    # must land relative to its own excursion: the laws' absolute precision (1e-8)
+    # accepts a joint that should creep 1.6e-9 forward and back standing still.
     if pd > 0.0:
-        found = _timed_all(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min) or _timed_all(
-            prof, tf, pd, v0, vf, v_min, v_max, a_min, a_max
-        )
+        found = (
+            _timed_all(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min) and _lands(prof, tf)
+        ) or (_timed_all(prof, tf, pd, v0, vf, v_min, v_max, a_min, a_max) and _lands(prof, tf))
     else:
-        found = _timed_all(prof, tf, pd, v0, vf, v_min, v_max, a_min, a_max) or _timed_all(
-            prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min
-        )
+        found = (
+            _timed_all(prof, tf, pd, v0, vf, v_min, v_max, a_min, a_max) and _lands(prof, tf)
+        ) or (_timed_all(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min) and _lands(prof, tf))
     if not found:
         found = _timed_fallback(prof, tf, v_max, v_min, a_max, a_min)
     if found:

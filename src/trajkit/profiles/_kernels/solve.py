@@ -9,8 +9,9 @@ import numpy as np
 from numba import njit, prange
 
 from trajkit.profiles._kernels import profile, quantize, synchronize, tables
-from trajkit.profiles._kernels.admissible import J_MAX
+from trajkit.profiles._kernels.admissible import A_MAX, J_MAX, V_MIN
 from trajkit.profiles._kernels.layout import BRAKE_DURATION, SIZE, T_SUM
+from trajkit.profiles._kernels.synchronize import POSITION
 
 # Status of one(): the plan is found but its pieces cannot keep it in absolute time.
 UNRESOLVED = 7
@@ -65,6 +66,21 @@ def one(
         target[0, d] = m[1, d]
         target[1, d] = m[3, d]
         target[2, d] = m[5, d]
+    for d in range(ndof):
+        if control[d] != POSITION:
+            # No position target: the motion ends wherever its phases take it.
+            target[0, d] = tables.end_position(start[:, d], t[d], u[d], second[d])
+    if not (switches and dt > 0.0):  # on the grid every switch stays a whole period
+        for d in range(ndof):
+            tables.polish(
+                start[:, d],
+                target[:, d],
+                t[d],
+                u[d],
+                second[d],
+                control[d] == POSITION,
+                m[V_MIN : A_MAX + 1, d],
+            )
     count = tables.pieces(
         start, target, t, u, second, out[synchronize.OUT_DURATION], breakpoints, coefficients, end
     )
@@ -94,7 +110,20 @@ def batch(m, control, sync, enabled, min_duration, dt, switches, t, u, own, out,
         )
         if status[i] == synchronize.OK:
             for d in range(ndof):
-                tables.compact(records[d], np.isinf(m[i, J_MAX, d]), t[i, d], u[i, d])
+                second = np.isinf(m[i, J_MAX, d])
+                tables.compact(records[d], second, t[i, d], u[i, d])
+                if not (switches and dt > 0.0):
+                    start = np.array((m[i, 0, d], m[i, 2, d], m[i, 4, d]))
+                    target = np.array((m[i, 1, d], m[i, 3, d], m[i, 5, d]))
+                    tables.polish(
+                        start,
+                        target,
+                        t[i, d],
+                        u[i, d],
+                        second,
+                        control[i, d] == POSITION,
+                        m[i, V_MIN : A_MAX + 1, d],
+                    )
 
 
 @njit(cache=True, error_model="numpy")

@@ -41,6 +41,218 @@ def compact(record, second_order, t, u):
         u[2 + i] = record[A + i] if second_order else record[J + i]
 
 
+# A polish may change a phase's duration by at most this fraction of it. The laws'
+# precision (1e-8 in position) can be a 1e-4 share of a short jerk phase of a tiny
+# move; a correction beyond this is not a polish.
+POLISH_MAX_CHANGE = 1e-3
+# Jerk phases take a correction at this weight beside holds and coasts: stretching a
+# hold keeps the acceleration and velocity levels (and so the limits) as planned.
+JERK_PHASE_WEIGHT = 1e-3
+POLISH_ITERATIONS = 3
+_EPS = 2.220446049250313e-16
+
+
+@njit(cache=True, error_model="numpy")
+def _phase_ends(start, t, u, second_order, ends):
+    """``ends[k]`` = (p, v, a) at the end of phase ``k``, integrated from ``start``."""
+    p, v, a = start[0], start[1], start[2]
+    for k in range(PHASES):
+        tk = t[k]
+        if tk > 0.0:
+            if second_order:
+                a = u[k]
+                j = 0.0
+            else:
+                j = u[k]
+            p = p + tk * (v + tk * (a / 2.0 + tk * j / 6.0))
+            v = v + tk * (a + tk * j / 2.0)
+            a = a + tk * j
+        ends[k, 0] = p
+        ends[k, 1] = v
+        ends[k, 2] = a
+
+
+@njit(cache=True, error_model="numpy")
+def end_position(start, t, u, second_order):
+    """Where the nine phases from ``start`` (p, v, a) end (a motion with no position target)."""
+    ends = np.empty((PHASES, 3))
+    _phase_ends(start, t, u, second_order, ends)
+    return ends[PHASES - 1, 0]
+
+
+@njit(cache=True, error_model="numpy")
+def _residual(start, target, t, u, second_order, with_position, ends):
+    """Integrate the phases into ``ends``; return the scales (p, v, a) of the target's miss.
+
+    Each scale is the largest magnitude of its quantity along the motion (the
+    position's only with a position target).
+    """
+    _phase_ends(start, t, u, second_order, ends)
+    sp = max(abs(start[0]), abs(target[0])) if with_position else 1.0
+    sv = max(abs(start[1]), abs(target[1]), 1e-300)
+    sa = max(abs(start[2]), abs(target[2]), 1e-300)
+    for k in range(PHASES):
+        if with_position:
+            sp = max(sp, abs(ends[k, 0]))
+        sv = max(sv, abs(ends[k, 1]))
+        sa = max(sa, abs(ends[k, 2]))
+    return sp, sv, sa
+
+
+@njit(cache=True, error_model="numpy")
+def _excess(start, t, u, second_order, limits):
+    """Largest excess of the profile phases' velocity and acceleration over ``limits``.
+
+    Relative to the limit exceeded. ``limits`` = (v_min, v_max, a_min, a_max); the
+    velocity's turning points inside jerk phases count. Negative where every value
+    is inside.
+    """
+    v_min, v_max, a_min, a_max = limits[0], limits[1], limits[2], limits[3]
+    worst = -math.inf
+    v, a = start[1], start[2]
+    for k in range(PHASES):
+        tk = t[k]
+        if not tk > 0.0:
+            continue
+        if second_order:
+            a = u[k]
+            j = 0.0
+        else:
+            j = u[k]
+        v_end = v + tk * (a + tk * j / 2.0)
+        a_end = a + tk * j
+        if k >= 2:
+            hi = max(v, v_end)
+            lo = min(v, v_end)
+            if j != 0.0 and 0.0 < -a / j < tk:
+                turn = v - a * a / (2.0 * j)
+                hi = max(hi, turn)
+                lo = min(lo, turn)
+            worst = max(worst, (hi - v_max) / v_max, (lo - v_min) / v_min)
+            worst = max(worst, (max(a, a_end) - a_max) / a_max, (min(a, a_end) - a_min) / a_min)
+        v, a = v_end, a_end
+    return worst
+
+
+@njit(cache=True, error_model="numpy")
+def polish(start, target, t, u, second_order, with_position, limits):
+    """Correct the profile phases' durations so the phases end on the target to rounding.
+
+    The laws accept a profile that reaches the target within their absolute
+    precision (1e-8 in position, as ruckig's); their durations are then a few ulps
+    of a root away from exact. A Gauss-Newton step on the durations of the seven
+    profile phases, their sum held (the common duration stays), removes that miss:
+    the minimum-norm correction, relative to each phase's length, preferring holds
+    and coasts over jerk phases. Corrections larger than ``POLISH_MAX_CHANGE`` of a
+    phase, that do not reduce the miss, or that would take a velocity or an
+    acceleration past ``limits`` (v_min, v_max, a_min, a_max) further than the plan
+    did, are not applied.
+    """
+    ends = np.empty((PHASES, 3))
+    rows = np.zeros((4, PHASES))
+    # Rounding may move a value held at its limit by an ulp or two either way.
+    allowed = max(_excess(start, t, u, second_order, limits), 0.0) + 16.0 * _EPS
+    for _ in range(POLISH_ITERATIONS):
+        sp, sv, sa = _residual(start, target, t, u, second_order, with_position, ends)
+        finish = 0.0
+        for k in range(PHASES):
+            finish += t[k] if t[k] > 0.0 else 0.0
+        last = PHASES - 1
+        miss = np.zeros(4)
+        miss[0] = (target[0] - ends[last, 0]) / sp if with_position else 0.0
+        miss[1] = (target[1] - ends[last, 1]) / sv
+        miss[2] = 0.0 if second_order else (target[2] - ends[last, 2]) / sa
+        before = max(abs(miss[0]), abs(miss[1]), abs(miss[2]))
+        if before <= 4.0 * _EPS or not finish > 0.0:
+            return
+        rows[:, :] = 0.0
+        clock = 0.0
+        for k in range(PHASES):
+            tk = t[k]
+            if not tk > 0.0:
+                continue
+            clock += tk
+            if k < 2:
+                continue  # the brake is fixed by the start state
+            tau = finish - clock
+            if second_order:
+                lift = u[k]
+                j = 0.0
+            else:
+                lift = ends[k, 2]
+                j = u[k]
+            weight = tk if (second_order or j == 0.0) else tk * JERK_PHASE_WEIGHT
+            if with_position:
+                rows[0, k] = weight * (ends[k, 1] + tau * (lift + tau * j / 2.0)) / sp
+            rows[1, k] = weight * (lift + tau * j) / sv
+            if not second_order:
+                rows[2, k] = weight * j / sa
+            rows[3, k] = weight / finish
+        # Minimum-norm x with rows @ x = miss: x = rows.T @ y, (rows @ rows.T) y = miss.
+        gram = rows @ rows.T
+        y = miss.copy()
+        if not _solve_in_place(gram, y):
+            return
+        x = rows.T @ y
+        changed = t.copy()
+        for k in range(2, PHASES):
+            if t[k] > 0.0:
+                change = x[k] * (1.0 if (second_order or u[k] == 0.0) else JERK_PHASE_WEIGHT)
+                if not abs(change) <= POLISH_MAX_CHANGE:
+                    return
+                changed[k] = t[k] * (1.0 + change)
+        sp, sv, sa = _residual(start, target, changed, u, second_order, with_position, ends)
+        after = max(
+            abs(target[0] - ends[last, 0]) / sp if with_position else 0.0,
+            abs(target[1] - ends[last, 1]) / sv,
+            0.0 if second_order else abs(target[2] - ends[last, 2]) / sa,
+        )
+        if not after < before or _excess(start, changed, u, second_order, limits) > allowed:
+            return
+        t[:] = changed
+
+
+@njit(cache=True, error_model="numpy")
+def _solve_in_place(a, b):
+    """Solve the small system ``a x = b`` into ``b`` (Gaussian elimination, partial pivoting).
+
+    An equation no phase can move (a zero row and column) keeps its unknown at 0.
+    Returns False where the system is singular otherwise (fewer phases than
+    equations): the phases are then left as planned.
+    """
+    n = b.shape[0]
+    scale = 0.0
+    for i in range(n):
+        scale = max(scale, a[i, i])
+    if not scale > 0.0:
+        return False
+    for i in range(n):
+        if a[i, i] == 0.0:
+            a[i, i] = scale
+            b[i] = 0.0
+    for col in range(n):
+        best = col
+        for r in range(col + 1, n):
+            if abs(a[r, col]) > abs(a[best, col]):
+                best = r
+        if not abs(a[best, col]) > 1e-12 * scale:
+            return False
+        for c in range(n):
+            a[col, c], a[best, c] = a[best, c], a[col, c]
+        b[col], b[best] = b[best], b[col]
+        for r in range(col + 1, n):
+            f = a[r, col] / a[col, col]
+            for c in range(col, n):
+                a[r, c] -= f * a[col, c]
+            b[r] -= f * b[col]
+    for col in range(n - 1, -1, -1):
+        total = b[col]
+        for c in range(col + 1, n):
+            total -= a[col, c] * b[c]
+        b[col] = total / a[col, col]
+    return True
+
+
 @njit(cache=True, error_model="numpy")
 def phase_states(p0, v0, a0, t, u, second_order, starts, states):
     """Start time and state (p, v, a, j) of each of the nine phases; returns the end time.
