@@ -8,6 +8,7 @@ engine (:mod:`trajkit.profiles.engine`), and builds the
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -335,7 +336,8 @@ def solve(
         planner, p.matrix, control=control, sync=codes, min_duration=floor, dt=step, grid=grid
     )
     total = float(result.duration)
-    finite_result(planner, np.array([total]), {"duration": duration})
+    if not math.isfinite(total):  # the check itself costs more than a plan
+        finite_result(planner, np.array([total]), {"duration": duration})
     if duration is not None:
         fastest = float(result.own.max())
         if floor < fastest * (1 - 1e-12):

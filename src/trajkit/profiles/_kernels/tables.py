@@ -53,17 +53,25 @@ _EPS = 2.220446049250313e-16
 
 
 @njit(cache=True, error_model="numpy")
+def _control(u_k, a, second_order):
+    """A phase's start acceleration and jerk from its control ``u_k``.
+
+    An acceleration-limited joint's control is its (held) acceleration, jerk 0; a
+    jerk-limited joint's is its jerk, the acceleration carried on from ``a``.
+    """
+    if second_order:
+        return u_k, 0.0
+    return a, u_k
+
+
+@njit(cache=True, error_model="numpy")
 def _phase_ends(start, t, u, second_order, ends):
     """``ends[k]`` = (p, v, a) at the end of phase ``k``, integrated from ``start``."""
     p, v, a = start[0], start[1], start[2]
     for k in range(PHASES):
         tk = t[k]
         if tk > 0.0:
-            if second_order:
-                a = u[k]
-                j = 0.0
-            else:
-                j = u[k]
+            a, j = _control(u[k], a, second_order)
             p = p + tk * (v + tk * (a / 2.0 + tk * j / 6.0))
             v = v + tk * (a + tk * j / 2.0)
             a = a + tk * j
@@ -114,11 +122,7 @@ def _excess(start, t, u, second_order, limits):
         tk = t[k]
         if not tk > 0.0:
             continue
-        if second_order:
-            a = u[k]
-            j = 0.0
-        else:
-            j = u[k]
+        a, j = _control(u[k], a, second_order)
         v_end = v + tk * (a + tk * j / 2.0)
         a_end = a + tk * j
         if k >= 2:
@@ -267,11 +271,8 @@ def _integrate_from(first, p, v, a, clock, t, u, second_order, starts, states):
     """:func:`phase_states` from phase ``first`` on, starting at ``(p, v, a)`` at ``clock``."""
     for k in range(first, PHASES):
         tk = t[k]
-        if second_order:
-            a = u[k] if tk > 0.0 else 0.0
-            j = 0.0
-        else:
-            j = u[k]
+        # An empty phase of a trapezoid holds no acceleration; a jerk phase keeps its jerk.
+        a, j = _control(u[k] if (tk > 0.0 or not second_order) else 0.0, a, second_order)
         starts[k] = clock
         states[k, 0] = p
         states[k, 1] = v
@@ -358,11 +359,7 @@ def _anchor_ends(target, t, u, second_order, finish, states, anchors):
         tk = t[k]
         if not tk > 0.0:
             continue
-        if second_order:
-            a = u[k]
-            j = 0.0
-        else:
-            j = u[k]
+        a, j = _control(u[k], a, second_order)
         states[k, 0] = p
         states[k, 1] = v
         states[k, 2] = a
