@@ -120,3 +120,50 @@ def test_random_moves_replanned_every_cycle_reach_their_targets():
         np.testing.assert_array_equal(state.position, qf)
         assert np.all(np.abs(velocities) <= vmax * (1 + 1e-9))
         assert np.all(np.abs(accelerations) <= amax * (1 + 1e-9))
+
+
+def test_a_velocity_step_is_the_offline_velocity_change_one_period_in():
+    gen = tk.online.Generator(2, 0.01, V, A, J, position=[0.1, -0.2], velocity=[0.3, 0.0])
+    state, reached = gen.update_velocity([-0.5, 0.8])
+    plan = tk.velocity_change([0.3, 0.0], [-0.5, 0.8], A, J, q0=[0.1, -0.2])
+    assert not reached
+    np.testing.assert_allclose(state.position, plan.position(0.01), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(state.velocity, plan.velocity(0.01), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(state.acceleration, plan.acceleration(0.01), rtol=1e-12, atol=1e-15)
+    assert gen.duration == pytest.approx(plan.duration, rel=1e-12)
+
+
+def test_velocity_jog_reaches_each_commanded_speed_and_matches_ruckig():
+    ruckig = pytest.importorskip("ruckig", reason="ruckig (test oracle) is not installed")
+    dt = 0.002
+    gen = tk.online.Generator(2, dt, V, A, J, position=[0.5, -1.0])
+    otg, inp, out = ruckig.Ruckig(2, dt), ruckig.InputParameter(2), ruckig.OutputParameter(2)
+    inp.control_interface = ruckig.ControlInterface.Velocity
+    inp.current_position = [0.5, -1.0]
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = V.tolist(), A.tolist(), J.tolist()
+    previous = np.zeros(2)
+    for command in ([0.8, -1.5], [0.8, 0.5], [-0.2, 0.0], [0.0, 0.0]):
+        inp.target_velocity = command
+        for _ in range(2000):
+            state, reached = gen.update_velocity(command)
+            result = otg.update(inp, out)
+            out.pass_to_input(inp)
+            # ruckig samples the plan it made when the command changed, trajkit plans
+            # afresh every cycle: the same motion, up to the drift of re-planning a
+            # joint stretched to a duration within ulps of its own minimum (1.5e-9).
+            np.testing.assert_allclose(state.position, out.new_position, rtol=0, atol=1e-8)
+            np.testing.assert_allclose(state.velocity, out.new_velocity, rtol=0, atol=1e-8)
+            assert np.all(np.abs(state.acceleration) <= A * (1 + 1e-9))
+            assert np.all(np.abs(state.acceleration - previous) <= J * dt * (1 + 1e-9))
+            previous = state.acceleration.copy()
+            if reached:
+                break
+        assert reached and result == ruckig.Result.Finished
+        np.testing.assert_array_equal(state.velocity, command)
+        np.testing.assert_array_equal(state.acceleration, 0.0)
+
+
+def test_a_commanded_velocity_beyond_the_limit_is_refused():
+    gen = tk.online.Generator(2, 0.01, V, A, J)
+    with pytest.raises(tk.InfeasibleError, match=r"vf=1.5 rad/s is beyond the velocity limit 1"):
+        gen.update_velocity([1.5, 0.0])

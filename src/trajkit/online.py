@@ -95,7 +95,8 @@ class Generator:
         )  # fmt: skip
         self._m = np.ascontiguousarray(problem.matrix.copy())
         self._sync = problem.sync
-        self._control = np.zeros(self.ndof, np.int64)
+        self._position_control = np.zeros(self.ndof, np.int64)
+        self._velocity_control = np.ones(self.ndof, np.int64)
         self._enabled = np.ones(self.ndof, np.int64)
         from trajkit.profiles._kernels.layout import SIZE
 
@@ -132,6 +133,30 @@ class Generator:
             m[1] = joint_vector("target", target, self.ndof, unit="rad")
             m[3] = joint_vector("velocity", velocity, self.ndof, unit="rad/s")
             m[5] = joint_vector("acceleration", acceleration, self.ndof, unit="rad/s^2")
+        return self._step(self._position_control)
+
+    def update_velocity(
+        self, velocity: ArrayLike, acceleration: ArrayLike = 0.0
+    ) -> tuple[OnlineState, bool]:
+        """Plan to a target velocity (and acceleration), no position target; step one period.
+
+        The velocity interface, as :func:`trajkit.velocity_change` plans it: a jog
+        at a commanded speed, a stop from any state (``velocity=0``). The target
+        must be within the velocity and acceleration limits. Returns the new state
+        and whether its velocity and acceleration are the target's.
+        """
+        m = self._m
+        try:
+            m[3] = velocity
+            m[5] = acceleration
+        except (TypeError, ValueError):
+            m[3] = joint_vector("velocity", velocity, self.ndof, unit="rad/s")
+            m[5] = joint_vector("acceleration", acceleration, self.ndof, unit="rad/s^2")
+        m[1] = m[0]  # unused by the velocity law; kept finite for the checks
+        return self._step(self._velocity_control)
+
+    def _step(self, control: np.ndarray) -> tuple[OnlineState, bool]:
+        m = self._m
         from trajkit.profiles._kernels.admissible import admissible
 
         if not engine.run("admissible", admissible, m):
@@ -139,7 +164,7 @@ class Generator:
         from trajkit.profiles._kernels import solve
 
         code = engine.run(
-            "online_step", solve.online_step, m, self._control, self._sync, self._enabled,
+            "online_step", solve.online_step, m, control, self._sync, self._enabled,
             self.dt, self._records, self._own, self._out, self._next,
         )  # fmt: skip
         if code != engine._OK:

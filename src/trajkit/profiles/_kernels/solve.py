@@ -10,7 +10,7 @@ from numba import njit, prange
 
 from trajkit.profiles._kernels import profile, quantize, synchronize, tables
 from trajkit.profiles._kernels.admissible import A_MAX, J_MAX, V_MIN
-from trajkit.profiles._kernels.layout import BRAKE_DURATION, SIZE, T_SUM
+from trajkit.profiles._kernels.layout import BRAKE_DURATION, SIZE, T_SUM, P
 from trajkit.profiles._kernels.synchronize import POSITION
 
 # Status of one(): the plan is found but its pieces cannot keep it in absolute time.
@@ -150,12 +150,19 @@ def online_step(m, control, sync, enabled, period, records, own, out, state):
         status = synchronize.plan(m, control, relaxed, enabled, np.nan, 0.0, records, own, out)
     if status != synchronize.OK:
         return status
-    finished = out[synchronize.OUT_DURATION] <= period
+    duration = out[synchronize.OUT_DURATION]
+    finished = duration <= period
     for d in range(ndof):
         if finished:
-            state[0, d] = m[1, d]
             state[1, d] = m[3, d]
             state[2, d] = m[5, d]
+            if control[d] == POSITION:
+                state[0, d] = m[1, d]
+            else:
+                # No position target: from where the motion ended, at the target velocity.
+                rest = period - duration
+                state[0, d] = records[d, P + 7] + rest * (m[3, d] + rest * m[5, d] / 2.0)
+                state[1, d] = m[3, d] + rest * m[5, d]
             continue
         p, v, a, _ = profile.state_at(records[d], period)
         if np.isinf(m[J_MAX, d]) and period >= records[d, T_SUM + 6] + records[d, BRAKE_DURATION]:
