@@ -583,14 +583,15 @@ def timed(prof, tf, v_max, v_min, a_max, a_min):
     # The direction of the displacement is the likely one: try it first. A profile
     # must land relative to its own excursion: the laws' absolute precision (1e-8)
     # accepts a joint that should creep 1.6e-9 forward and back standing still.
-    if pd > 0.0:
-        found = (
-            _timed_all(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min) and _lands(prof, tf)
-        ) or (_timed_all(prof, tf, pd, v0, vf, v_min, v_max, a_min, a_max) and _lands(prof, tf))
-    else:
-        found = (
-            _timed_all(prof, tf, pd, v0, vf, v_min, v_max, a_min, a_max) and _lands(prof, tf)
-        ) or (_timed_all(prof, tf, pd, v0, vf, v_max, v_min, a_max, a_min) and _lands(prof, tf))
+    found = False
+    for up in (pd > 0.0, not pd > 0.0):
+        if up:
+            hi, lo, a_hi, a_lo = v_max, v_min, a_max, a_min
+        else:
+            hi, lo, a_hi, a_lo = v_min, v_max, a_min, a_max
+        if _timed_all(prof, tf, pd, v0, vf, hi, lo, a_hi, a_lo) and _lands(prof, tf):
+            found = True
+            break
     if not found:
         found = _timed_fallback(prof, tf, v_max, v_min, a_max, a_min)
     if found:

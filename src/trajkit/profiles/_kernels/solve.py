@@ -67,11 +67,7 @@ def one(
         target[1, d] = m[3, d]
         target[2, d] = m[5, d]
     for d in range(ndof):
-        if control[d] != POSITION:
-            # No position target: the motion ends wherever its phases take it.
-            target[0, d] = tables.end_position(start[:, d], t[d], u[d], second[d])
-    if not (switches and dt > 0.0):  # on the grid every switch stays a whole period
-        for d in range(ndof):
+        if not (switches and dt > 0.0):  # on the grid every switch stays a whole period
             tables.polish(
                 start[:, d],
                 target[:, d],
@@ -81,6 +77,9 @@ def one(
                 control[d] == POSITION,
                 m[V_MIN : A_MAX + 1, d],
             )
+        if control[d] != POSITION:
+            # No position target: the motion ends wherever its (polished) phases take it.
+            target[0, d] = tables.end_position(start[:, d], t[d], u[d], second[d])
     count = tables.pieces(
         start, target, t, u, second, out[synchronize.OUT_DURATION], breakpoints, coefficients, end
     )
@@ -113,11 +112,9 @@ def batch(m, control, sync, enabled, min_duration, dt, switches, t, u, own, out,
                 second = np.isinf(m[i, J_MAX, d])
                 tables.compact(records[d], second, t[i, d], u[i, d])
                 if not (switches and dt > 0.0):
-                    start = np.array((m[i, 0, d], m[i, 2, d], m[i, 4, d]))
-                    target = np.array((m[i, 1, d], m[i, 3, d], m[i, 5, d]))
                     tables.polish(
-                        start,
-                        target,
+                        m[i, 0:5:2, d],  # rows q0, v0, a0 (views: no allocation per joint)
+                        m[i, 1:6:2, d],  # rows qf, vf, af
                         t[i, d],
                         u[i, d],
                         second,

@@ -154,8 +154,8 @@ def polish(start, target, t, u, second_order, with_position, limits):
     """
     ends = np.empty((PHASES, 3))
     rows = np.zeros((4, PHASES))
-    # Rounding may move a value held at its limit by an ulp or two either way.
-    allowed = max(_excess(start, t, u, second_order, limits), 0.0) + 16.0 * _EPS
+    factor = np.zeros(PHASES)  # each phase's weight per unit of its duration
+    allowed = -1.0  # found on the first correction (most plans need none)
     for _ in range(POLISH_ITERATIONS):
         sp, sv, sa = _residual(start, target, t, u, second_order, with_position, ends)
         finish = 0.0
@@ -169,6 +169,9 @@ def polish(start, target, t, u, second_order, with_position, limits):
         before = max(abs(miss[0]), abs(miss[1]), abs(miss[2]))
         if before <= 4.0 * _EPS or not finish > 0.0:
             return
+        if allowed < 0.0:
+            # Rounding may move a value held at its limit by an ulp or two either way.
+            allowed = max(_excess(start, t, u, second_order, limits), 0.0) + 16.0 * _EPS
         rows[:, :] = 0.0
         clock = 0.0
         for k in range(PHASES):
@@ -179,13 +182,10 @@ def polish(start, target, t, u, second_order, with_position, limits):
             if k < 2:
                 continue  # the brake is fixed by the start state
             tau = finish - clock
-            if second_order:
-                lift = u[k]
-                j = 0.0
-            else:
-                lift = ends[k, 2]
-                j = u[k]
-            weight = tk if (second_order or j == 0.0) else tk * JERK_PHASE_WEIGHT
+            # Lengthening phase k by dt adds (v, a, j) dt to the state at its end.
+            lift, j = _control(u[k], ends[k, 2], second_order)
+            factor[k] = 1.0 if j == 0.0 else JERK_PHASE_WEIGHT
+            weight = tk * factor[k]
             if with_position:
                 rows[0, k] = weight * (ends[k, 1] + tau * (lift + tau * j / 2.0)) / sp
             rows[1, k] = weight * (lift + tau * j) / sv
@@ -201,7 +201,7 @@ def polish(start, target, t, u, second_order, with_position, limits):
         changed = t.copy()
         for k in range(2, PHASES):
             if t[k] > 0.0:
-                change = x[k] * (1.0 if (second_order or u[k] == 0.0) else JERK_PHASE_WEIGHT)
+                change = x[k] * factor[k]
                 if not abs(change) <= POLISH_MAX_CHANGE:
                     return
                 changed[k] = t[k] * (1.0 + change)
