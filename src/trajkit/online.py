@@ -106,10 +106,14 @@ class Generator:
         self._next = np.empty((3, self.ndof))
         # Acceleration-limited joints carry no acceleration state into the next plan
         # (theirs jumps): the reported acceleration is kept apart.
-        self._second = np.isinf(self._m[10])
         self._acceleration = self._m[4].copy()
         self._state = OnlineState(self._m[0], self._m[2], self._acceleration)
         self.duration = 0.0  # of the last plan (s)
+        self._held: list[float | int | None] = [None] * 11  # numbers in the target rows
+        from trajkit.profiles._kernels import solve
+
+        self._inadmissible = solve.INADMISSIBLE
+        self._cycle = solve.online_cycle
 
     @property
     def state(self) -> OnlineState:
@@ -123,16 +127,15 @@ class Generator:
 
         Returns the new current state and whether it is the target state.
         """
-        m = self._m
         try:
-            m[1] = target
-            m[3] = velocity
-            m[5] = acceleration
+            self._put(1, target)
+            self._put(3, velocity)
+            self._put(5, acceleration)
         except (TypeError, ValueError):
             # Not plain numbers: the validators name the argument.
-            m[1] = joint_vector("target", target, self.ndof, unit="rad")
-            m[3] = joint_vector("velocity", velocity, self.ndof, unit="rad/s")
-            m[5] = joint_vector("acceleration", acceleration, self.ndof, unit="rad/s^2")
+            self._put(1, joint_vector("target", target, self.ndof, unit="rad"))
+            self._put(3, joint_vector("velocity", velocity, self.ndof, unit="rad/s"))
+            self._put(5, joint_vector("acceleration", acceleration, self.ndof, unit="rad/s^2"))
         return self._step(self._position_control)
 
     def update_velocity(
@@ -145,35 +148,40 @@ class Generator:
         must be within the velocity and acceleration limits. Returns the new state
         and whether its velocity and acceleration are the target's.
         """
-        m = self._m
         try:
-            m[3] = velocity
-            m[5] = acceleration
+            self._put(3, velocity)
+            self._put(5, acceleration)
         except (TypeError, ValueError):
-            m[3] = joint_vector("velocity", velocity, self.ndof, unit="rad/s")
-            m[5] = joint_vector("acceleration", acceleration, self.ndof, unit="rad/s^2")
-        m[1] = m[0]  # unused by the velocity law; kept finite for the checks
+            self._put(3, joint_vector("velocity", velocity, self.ndof, unit="rad/s"))
+            self._put(5, joint_vector("acceleration", acceleration, self.ndof, unit="rad/s^2"))
+        self._put(1, self._m[0])  # unused by the velocity law; kept finite for the checks
         return self._step(self._velocity_control)
 
+    def _put(self, row: int, value: ArrayLike) -> None:
+        """Write a target row of the problem; a number the row already holds is skipped.
+
+        Only the rows the caller sets (targets) are remembered this way: the
+        kernel writes the state rows.
+        """
+        if type(value) is float or type(value) is int:
+            if self._held[row] == value:
+                return
+            self._m[row] = value
+            self._held[row] = value
+        else:
+            self._held[row] = None
+            self._m[row] = value
+
     def _step(self, control: np.ndarray) -> tuple[OnlineState, bool]:
-        m = self._m
-        from trajkit.profiles._kernels.admissible import admissible
-
-        if not engine.run("admissible", admissible, m):
-            self._explain()
-        from trajkit.profiles._kernels import solve
-
         code = engine.run(
-            "online_step", solve.online_step, m, control, self._sync, self._enabled,
-            self.dt, self._records, self._own, self._out, self._next,
+            "online_cycle", self._cycle, self._m, control, self._sync, self._enabled,
+            self.dt, self._records, self._own, self._out, self._next, self._acceleration,
         )  # fmt: skip
-        if code != engine._OK:
-            raise engine._failure("online", code, self._out, m, "")
+        if code != engine.STATUS_OK:
+            if code == self._inadmissible:
+                self._explain()
+            raise engine._failure("online", code, self._out, self._m, "")
         self.duration = float(self._out[0])
-        m[0] = self._next[0]
-        m[2] = self._next[1]
-        self._acceleration[:] = self._next[2]
-        m[4] = np.where(self._second, 0.0, self._next[2])
         return self._state, self.duration <= self.dt
 
     def _explain(self) -> None:

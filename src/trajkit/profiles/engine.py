@@ -27,7 +27,16 @@ from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
 from trajkit.profiles._phases import PhasePlan
 
-__all__ = ["SYNC_MODES", "EngineResult", "kernels", "phase_plan", "solve", "warm"]
+__all__ = [
+    "STATUS_OK",
+    "SYNC_MODES",
+    "EngineResult",
+    "kernels",
+    "phase_plan",
+    "solve",
+    "unpack",
+    "warm",
+]
 
 #: Synchronization modes and the kernels' codes for them.
 SYNC_MODES: dict[str | None, int] = {"time": 0, "phase": 1, "time_if_necessary": 2, None: 3}
@@ -155,6 +164,8 @@ _OK, _STEP1_FAILED, _ZERO_LIMITS, _SYNC_FAILED, _STEP2_FAILED = 0, 1, 2, 3, 4
 _GRID_FAILED, _VELOCITY_UNSUPPORTED = 5, 6  # quantize.GRID_FAILED, VELOCITY_UNSUPPORTED
 _UNRESOLVED = 7  # solve.UNRESOLVED
 _MAX_EXTRA_PERIODS = 16  # quantize.MAX_EXTRA_PERIODS
+#: The kernels' status of a problem planned.
+STATUS_OK = _OK
 
 
 @dataclass(frozen=True)
@@ -299,6 +310,25 @@ def solve(
         u,
         records,
         pieces,
+    )
+
+
+def unpack(plan: FloatArray, m: FloatArray) -> EngineResult:
+    """The result of one problem from the flat ``plan`` of the kernels' ``quick``."""
+    from trajkit.profiles._kernels.solve import plan_layout
+
+    ndof = m.shape[1]
+    o_records, o_own, o_out, o_t, o_u, size = plan_layout(ndof)
+    out = plan[o_out:o_t]
+    return EngineResult(
+        out[0],
+        np.int64(out[1]),
+        np.bool_(out[2] == 1.0),
+        plan[o_own:o_out],
+        np.isinf(m[-1]),
+        plan[o_t:o_u].reshape(ndof, _PHASES),
+        plan[o_u:size].reshape(ndof, _PHASES),
+        plan[o_records:o_own].reshape(ndof, _SIZE),
     )
 
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from trajkit._validation import (
     FloatArray,
@@ -31,7 +31,7 @@ from trajkit.profiles import engine
 from trajkit.profiles._phases import PhasePlan
 from trajkit.trajectory import Trajectory
 
-__all__ = ["Problem", "read_problem", "read_sync", "solve", "to_trajectory"]
+__all__ = ["Problem", "quick_trajectory", "read_problem", "read_sync", "solve", "to_trajectory"]
 
 SYNC_NAMES = ("time", "phase", "time_if_necessary", None)
 GRIDS = ("switches", "duration")
@@ -151,10 +151,23 @@ _FAST_SCALARS = (float, int, np.float64)
 
 
 def _fast_row(value: object, ndof: int) -> object:
-    """``value`` if it is plainly numbers (no bools, strings, odd shapes), else None."""
+    """``value`` as one row of the problem matrix if it is plainly numbers, else None.
+
+    A number becomes a (cached, never exposed) row of ``ndof`` copies; bools,
+    strings, NaN keys and odd shapes are left to the validators.
+    """
     kind = type(value)
     if kind in _FAST_SCALARS:
-        return value
+        key = (value, ndof)
+        row = _CONSTANT_ROWS.get(key)
+        if row is None:
+            if value != value or len(_CONSTANT_ROWS) >= 4096:  # NaN, or a flood of values
+                return None
+            try:
+                row = _CONSTANT_ROWS[key] = np.full(ndof, float(value))  # type: ignore[arg-type]
+            except OverflowError:  # a Python int beyond float64
+                return None
+        return row
     if kind is np.ndarray:
         return value if value.dtype == np.float64 and value.shape == (ndof,) else None  # type: ignore[union-attr]
     if kind is list or kind is tuple:
@@ -167,6 +180,9 @@ def _fast_row(value: object, ndof: int) -> object:
     return None
 
 
+_CONSTANT_ROWS: dict[tuple[object, int], FloatArray] = {}
+
+
 def _ndof_of(*values: object) -> int | None:
     for value in values:
         kind = type(value)
@@ -177,56 +193,144 @@ def _ndof_of(*values: object) -> int | None:
     return 1
 
 
-_SYNC_CACHE: dict[tuple[object, int], tuple[np.ndarray, tuple[str | None, ...]]] = {}
+def _plain_rows(q0, qf, vmax, amax, jmax, v0, vf, a0, af) -> tuple[int, list, int] | None:
+    """The problem matrix's rows if every argument is plainly numbers, else None.
 
-
-def _fill_rows(m: FloatArray, rows: list[object], ndof: int) -> None:
-    for k, value in enumerate(rows):
-        row = _fast_row(value, ndof) if type(value) is not np.ndarray or k not in (6, 8) else value
-        if row is None or (type(row) is np.ndarray and row.shape != (ndof,)):
-            raise ValueError("not plainly numbers")
-        m[k] = row
-
-
-def _read_fast(q0, qf, vmax, amax, jmax, v0, vf, a0, af, sync) -> Problem | None:
-    """The problem, if every argument is plainly well formed and admissible; else None."""
-    from trajkit.profiles._kernels.admissible import ROWS, admissible
-
+    Returns ``(ndof, rows, negate)``: symmetric limits give their magnitude for the
+    lower bound too, flagged in ``negate`` (the kernels' ``NEGATE_*`` bits).
+    """
     ndof = _ndof_of(q0, qf, v0, vf, a0, af, jmax, vmax, amax)
-    if ndof is None or ndof == 0 or not (isinstance(sync, str) or sync is None):
+    if ndof is None or ndof == 0:
         return None
-    rows = [q0, qf, v0, vf, a0, af]
-    for spec in (vmax, amax):
-        if type(spec) is tuple:
-            if len(spec) != 2:
-                return None
-            rows += [spec[0], spec[1]]
+    rows = []
+    for value in (q0, qf, v0, vf, a0, af):
+        row = _fast_row(value, ndof)
+        if row is None:
+            return None
+        rows.append(row)
+    negate = 0
+    for spec, bit in ((vmax, 1), (amax, 2)):
+        if type(spec) is tuple and len(spec) == 2:
+            pair = [_fast_row(spec[0], ndof), _fast_row(spec[1], ndof)]
         else:
-            magnitude = _fast_row(spec, ndof)
-            if magnitude is None:
-                return None
-            try:
-                rows += [-np.asarray(magnitude, dtype=np.float64), magnitude]
-            except (OverflowError, TypeError, ValueError):
-                return None
-    rows.append(jmax)
-    m = np.empty((ROWS, ndof))
+            pair = [_fast_row(spec, ndof)] * 2
+            negate |= bit
+        if pair[0] is None or pair[1] is None:
+            return None
+        rows += pair
+    row = _fast_row(jmax, ndof)
+    if row is None:
+        return None
+    rows.append(row)
+    return ndof, rows, negate
+
+
+def _matrix(rows: list, ndof: int) -> FloatArray | None:
     try:
-        _fill_rows(m, rows, ndof)
+        m = np.array(rows, dtype=np.float64)
     except (OverflowError, TypeError, ValueError):
         return None  # (a Python int beyond float64, ...) the validators explain
-    if not engine.run("admissible", admissible, m):
+    return m if m.shape == (len(_ROWS), ndof) else None
+
+
+def _sync_codes(sync: object, ndof: int) -> tuple[NDArray[np.int64], tuple[str | None, ...]] | None:
+    """Rows control (position), sync and enabled for one sync mode, cached; None if odd."""
+    if not (isinstance(sync, str) or sync is None):
         return None
     key = (sync, ndof)
     codes = _SYNC_CACHE.get(key)
     if codes is None:
         if sync not in SYNC_NAMES:
             return None
-        codes = _SYNC_CACHE[key] = (
-            np.full(ndof, engine.SYNC_MODES[sync], np.int64),
-            (sync,) * ndof,
-        )
-    return Problem(m, *codes)
+        packed = np.zeros((3, ndof), np.int64)
+        packed[1] = engine.SYNC_MODES[sync]
+        packed[2] = 1
+        codes = _SYNC_CACHE[key] = (packed, (sync,) * ndof)
+    return codes
+
+
+_SYNC_CACHE: dict[tuple[object, int], tuple[NDArray[np.int64], tuple[str | None, ...]]] = {}
+
+
+def _read_fast(q0, qf, vmax, amax, jmax, v0, vf, a0, af, sync) -> Problem | None:
+    """The problem, if every argument is plainly well formed and admissible; else None."""
+    from trajkit.profiles._kernels.admissible import admissible
+
+    plain = _plain_rows(q0, qf, vmax, amax, jmax, v0, vf, a0, af)
+    codes = _sync_codes(sync, 1 if plain is None else plain[0])
+    if plain is None or codes is None:
+        return None
+    ndof, rows, negate = plain
+    m = _matrix(rows, ndof)
+    if m is None:
+        return None
+    if negate & 1:
+        m[6] *= -1.0
+    if negate & 2:
+        m[8] *= -1.0
+    if not engine.run("admissible", admissible, m):
+        return None
+    return Problem(m, codes[0][1], codes[1])
+
+
+def _run_quick(m: FloatArray, negate: int, codes: NDArray[np.int64]) -> tuple:
+    """Call the kernels' ``quick``, through :func:`engine.run` only the first time.
+
+    The first call may compile (and is announced); after it a microsecond counts.
+    """
+    global _quick
+    if _quick is not None:
+        return _quick(m, negate, codes)
+    kernel = engine.kernels().quick
+    result = engine.run("quick", kernel, m, negate, codes)
+    _quick = kernel
+    return result
+
+
+_quick: Any = None  # the compiled kernel, once it has run
+
+
+def quick_trajectory(
+    planner: str,
+    q0: ArrayLike,
+    qf: ArrayLike,
+    vmax: LimitSpec,
+    amax: LimitSpec,
+    jmax: ArrayLike,
+    *,
+    v0: ArrayLike,
+    vf: ArrayLike,
+    a0: ArrayLike,
+    af: ArrayLike,
+    sync: object,
+    info: Callable[[dict[str, Any], PhasePlan], dict[str, Any]] | None = None,
+) -> Trajectory | None:
+    """The planned Trajectory by the shortest road, or None to take the full one.
+
+    For plainly numeric arguments and default options (no duration, no ``dt``):
+    one compiled call checks, plans and builds the pieces; ``info`` and the
+    engine's result are unpacked only when read. None where anything is unusual
+    (malformed or inadmissible input, a failed plan): the full road then names
+    the problem or plans it.
+    """
+    plain = _plain_rows(q0, qf, vmax, amax, jmax, v0, vf, a0, af)
+    if plain is None:
+        return None
+    ndof, rows, negate = plain
+    codes = _sync_codes(sync, ndof)
+    m = _matrix(rows, ndof)
+    if codes is None or m is None:
+        return None
+    status, _, breakpoints, coefficients, end, flat = _run_quick(m, negate, codes[0])
+    if status != engine.STATUS_OK:
+        return None
+
+    def build() -> dict[str, Any]:
+        problem = Problem(m, codes[0][1], codes[1])
+        result = engine.unpack(flat, m)
+        return _info(planner, problem, result, None, info)
+
+    return Trajectory._trusted(breakpoints, coefficients, LazyInfo(build), end)
 
 
 def read_problem(
@@ -470,11 +574,18 @@ def to_trajectory(
     called on first access, with the nine-phase plan).
     """
     breakpoints, coefficients, end = result.pieces  # type: ignore[misc]
-
-    def build() -> dict[str, Any]:
-        fields = plan_info(planner, p, result, dt)
-        if info is None:
-            return fields
-        return info(fields, engine.phase_plan(result, p.q0, p.v0, p.a0))
-
+    build = lambda: _info(planner, p, result, dt, info)  # noqa: E731
     return Trajectory._trusted(breakpoints, coefficients, LazyInfo(build), end)
+
+
+def _info(
+    planner: str,
+    p: Problem,
+    result: engine.EngineResult,
+    dt: float | None,
+    adapt: Callable[[dict[str, Any], PhasePlan], dict[str, Any]] | None,
+) -> dict[str, Any]:
+    fields = plan_info(planner, p, result, dt)
+    if adapt is None:
+        return fields
+    return adapt(fields, engine.phase_plan(result, p.q0, p.v0, p.a0))

@@ -100,6 +100,12 @@ def scurve(
         A target beyond the limits, a duration below the minimum or one a joint
         cannot take exactly.
     """
+    if duration is None and min_duration is None and dt is None and grid == "switches":
+        quick = limited.quick_trajectory(
+            "scurve", q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync
+        )
+        if quick is not None:
+            return quick
     problem = limited.read_problem(
         "scurve", q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync
     )

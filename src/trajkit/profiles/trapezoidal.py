@@ -122,6 +122,23 @@ def trapezoidal(
         raise InvalidInputError(
             "trapezoidal needs vmax and amax (or blend_ratio / blend_time with a duration)"
         )
+    if duration is None and min_duration is None and dt is None and allow_overshoot:
+        quick = limited.quick_trajectory(
+            "trapezoidal",
+            q0,
+            qf,
+            vmax,
+            amax,
+            np.inf,
+            v0=v0,
+            vf=vf,
+            a0=0.0,
+            af=0.0,
+            sync=sync,
+            info=trapezoid_info,
+        )
+        if quick is not None:
+            return quick
     problem = limited.read_problem(
         "trapezoidal", q0, qf, vmax, amax, np.inf, v0=v0, vf=vf, a0=0.0, af=0.0, sync=sync
     )

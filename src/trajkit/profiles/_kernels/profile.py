@@ -466,6 +466,17 @@ def no_blocks(block_times):
 
 
 @njit(cache=True, error_model="numpy")
+def round_up(t, dt):
+    """``t`` rounded up to a whole number of periods ``dt`` (exact multiples stay)."""
+    remainder = np.fmod(t, dt)
+    if remainder > EPS:
+        # Never below t: a remainder of nearly dt (t a multiple but for rounding)
+        # would otherwise round t down, below the joint's own minimum.
+        return max(t, t + dt - remainder)
+    return t
+
+
+@njit(cache=True, error_model="numpy")
 def power_of_two(x):
     """The power of two nearest ``x`` (1 for ``x`` zero, negative or not finite).
 

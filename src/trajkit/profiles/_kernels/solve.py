@@ -9,12 +9,17 @@ import numpy as np
 from numba import njit, prange
 
 from trajkit.profiles._kernels import profile, quantize, synchronize, tables
-from trajkit.profiles._kernels.admissible import A_MAX, J_MAX, V_MIN
+from trajkit.profiles._kernels.admissible import A0, A_MAX, A_MIN, J_MAX, Q0, V0, V_MIN, admissible
 from trajkit.profiles._kernels.layout import BRAKE_DURATION, SIZE, T_SUM, P
 from trajkit.profiles._kernels.synchronize import POSITION
 
 # Status of one(): the plan is found but its pieces cannot keep it in absolute time.
 UNRESOLVED = 7
+# Status of quick(): the problem is not one the planners accept (the validators say why).
+INADMISSIBLE = 8
+# quick()'s flags: the rows v_min, a_min hold magnitudes, to be negated.
+NEGATE_V_MIN = 1
+NEGATE_A_MIN = 2
 
 
 @njit(cache=True, error_model="numpy")
@@ -88,26 +93,90 @@ def one(
     return status, count
 
 
+def plan_layout(ndof):
+    """Offsets in :func:`quick`'s flat plan: records, own, out, t, u, and its size."""
+    records = 0
+    own = records + ndof * SIZE
+    out = own + ndof
+    t = out + synchronize.OUT_SIZE
+    u = t + ndof * tables.PHASES
+    return records, own, out, t, u, u + ndof * tables.PHASES
+
+
+plan_layout_compiled = njit(cache=True)(plan_layout)
+
+
+@njit(cache=True, error_model="numpy")
+def quick(m, negate, codes):
+    """One problem with default options, from its matrix to its pieces in one call.
+
+    ``m`` (11, ndof) as :func:`one`'s, except that the rows ``v_min`` and ``a_min``
+    hold magnitudes where ``negate`` says so (negated here, in place); ``codes``
+    (3, ndof) holds the rows control, sync, enabled. Checks the problem
+    (:func:`.admissible.admissible`) and plans it: returns ``(status, count,
+    breakpoints, coefficients, end, plan)``, ``plan`` the flat records, own
+    durations, summary and phase tables at :func:`plan_layout`'s offsets.
+    """
+    ndof = m.shape[1]
+    for d in range(ndof):
+        if negate & NEGATE_V_MIN:
+            m[V_MIN, d] = -m[V_MIN, d]
+        if negate & NEGATE_A_MIN:
+            m[A_MIN, d] = -m[A_MIN, d]
+    o_records, o_own, o_out, o_t, o_u, size = plan_layout_compiled(ndof)
+    plan = np.empty(size)
+    pieces = tables.PHASES * ndof + 1
+    breakpoints = np.empty(pieces + 1)
+    coefficients = np.empty((4, pieces, ndof))
+    end = np.empty((3, ndof))
+    if not admissible(m):
+        return INADMISSIBLE, 0, breakpoints[:1], coefficients[:, :0], end, plan
+    status, count = one(
+        m,
+        codes[0],
+        codes[1],
+        codes[2],
+        np.nan,
+        0.0,
+        True,
+        plan[o_records:o_own].reshape((ndof, SIZE)),
+        plan[o_own:o_out],
+        plan[o_out:o_t],
+        plan[o_t:o_u].reshape((ndof, tables.PHASES)),
+        plan[o_u:size].reshape((ndof, tables.PHASES)),
+        breakpoints,
+        coefficients,
+        end,
+    )
+    return status, count, breakpoints[: count + 1], coefficients[:, :count], end, plan
+
+
+# Problems per task of a batch: each task allocates its scratch records once.
+CHUNK = 64
+
+
 @njit(cache=True, error_model="numpy", parallel=True)
 def batch(m, control, sync, enabled, min_duration, dt, switches, t, u, own, out, status):
     """Plan ``B`` problems in parallel into phase tables ``t``, ``u`` (B, ndof, 9)."""
     count = m.shape[0]
     ndof = m.shape[2]
-    for i in prange(count):
+    for c in prange((count + CHUNK - 1) // CHUNK):
         records = np.empty((ndof, SIZE))
-        status[i] = _plan(
-            m[i],
-            control[i],
-            sync[i],
-            enabled[i],
-            min_duration[i],
-            dt,
-            switches,
-            records,
-            own[i],
-            out[i],
-        )
-        if status[i] == synchronize.OK:
+        for i in range(c * CHUNK, min(count, (c + 1) * CHUNK)):
+            status[i] = _plan(
+                m[i],
+                control[i],
+                sync[i],
+                enabled[i],
+                min_duration[i],
+                dt,
+                switches,
+                records,
+                own[i],
+                out[i],
+            )
+            if status[i] != synchronize.OK:
+                continue
             for d in range(ndof):
                 second = np.isinf(m[i, J_MAX, d])
                 tables.compact(records[d], second, t[i, d], u[i, d])
@@ -167,4 +236,26 @@ def online_step(m, control, sync, enabled, period, records, own, out, state):
         state[0, d] = p
         state[1, d] = v
         state[2, d] = a
+    return status
+
+
+@njit(cache=True, error_model="numpy")
+def online_cycle(m, control, sync, enabled, period, records, own, out, state, acceleration):
+    """One control cycle: check the problem, step it one ``period``, make that state current.
+
+    As :func:`online_step`, then the rows q0, v0, a0 of ``m`` take the new state
+    (an acceleration-limited joint carries no acceleration into the next plan: its
+    reported one goes to ``acceleration`` only). Returns the status,
+    ``INADMISSIBLE`` where the validators must say why; ``m`` changes only on success.
+    """
+    if not admissible(m):
+        return INADMISSIBLE
+    status = online_step(m, control, sync, enabled, period, records, own, out, state)
+    if status != synchronize.OK:
+        return status
+    for d in range(m.shape[1]):
+        m[Q0, d] = state[0, d]
+        m[V0, d] = state[1, d]
+        acceleration[d] = state[2, d]
+        m[A0, d] = 0.0 if np.isinf(m[J_MAX, d]) else state[2, d]
     return status

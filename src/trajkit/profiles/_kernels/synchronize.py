@@ -24,6 +24,7 @@ from trajkit.profiles._kernels import (
     brake,
     jerk_fastest,
     jerk_timed,
+    rest_to_rest,
     velocity_target,
 )
 from trajkit.profiles._kernels.admissible import (
@@ -66,6 +67,7 @@ from trajkit.profiles._kernels.profile import (
     finalize_brake_second_order,
     integrate,
     power_of_two,
+    round_up,
     set_boundary,
 )
 
@@ -219,6 +221,27 @@ def _units(pd, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max):
     if math.isfinite(j_max) and not (1e-300 < j_max * tau**3 / lam < 1e300):
         return 1.0, 1.0
     return tau, lam
+
+
+@njit(cache=True, error_model="numpy")
+def ordinary(m):
+    """Whether every joint's problem is planned in its own units (see :func:`_units`)."""
+    for d in range(m.shape[1]):
+        tau, lam = _units(
+            m[QF, d] - m[Q0, d],
+            m[V0, d],
+            m[A0, d],
+            m[VF, d],
+            m[AF, d],
+            m[V_MAX, d],
+            m[V_MIN, d],
+            m[A_MAX, d],
+            m[A_MIN, d],
+            m[J_MAX, d],
+        )
+        if not (tau == 1.0 and lam == 1.0):
+            return False
+    return True
 
 
 @njit(cache=True, error_model="numpy")
@@ -505,17 +528,6 @@ def _has_zero_limits(a_max, a_min, j_max):
 
 
 @njit(cache=True, error_model="numpy")
-def _round_up(t, dt):
-    """``t`` rounded up to a whole number of periods ``dt`` (exact multiples stay)."""
-    remainder = np.fmod(t, dt)
-    if remainder > _EPS:
-        # Never below t: a remainder of nearly dt (t a multiple but for rounding)
-        # would otherwise round t down, below the joint's own minimum.
-        return max(t, t + dt - remainder)
-    return t
-
-
-@njit(cache=True, error_model="numpy")
 def _synchronize(block_times, sync, min_duration, dt, candidates, order):
     """The common duration and where it comes from.
 
@@ -543,7 +555,7 @@ def _synchronize(block_times, sync, min_duration, dt, candidates, order):
     if dt > 0.0:
         for k in range(3 * ndof + 1):
             if not math.isinf(candidates[k]):
-                candidates[k] = _round_up(candidates[k], dt)
+                candidates[k] = round_up(candidates[k], dt)
     count = 3 * ndof + 1 if any_interval else ndof
     for k in range(count):
         order[k] = k
@@ -738,6 +750,18 @@ def plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out
     joint; where they are not collinear they are time-synchronized and
     ``out[OUT_PHASE]`` stays 0.
     """
+    if (
+        rest_to_rest.applies(m, control, sync, enabled)
+        and ordinary(m)
+        and rest_to_rest.plan(m, sync, min_duration, dt, profiles, independent, out)
+    ):
+        return OK
+    return general_plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out)
+
+
+@njit(cache=True, error_model="numpy")
+def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out):
+    """:func:`plan` by the general laws (any problem)."""
     p0, pf, v0, vf, a0, af = m[Q0], m[QF], m[V0], m[VF], m[A0], m[AF]
     v_min, v_max, a_min, a_max, j_max = m[V_MIN], m[V_MAX], m[A_MIN], m[A_MAX], m[J_MAX]
     ndof = p0.shape[0]
@@ -876,7 +900,7 @@ def plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out
                 all_none = False
             if enabled[d] != 0 and roles[d] == SYNC_NONE:
                 profiles[d] = blocks[d, 0]
-                own = _round_up(block_times[d, 0], dt) if discrete else block_times[d, 0]
+                own = round_up(block_times[d, 0], dt) if discrete else block_times[d, 0]
                 if own > duration:
                     duration = own
                     limiting = d
@@ -921,7 +945,7 @@ def plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out
                 continue
             if roles[d] == SYNC_NONE:
                 # Discrete durations: a joint on its own still ends on the grid.
-                own = _round_up(block_times[d, 0], dt)
+                own = round_up(block_times[d, 0], dt)
             else:
                 own = duration
             if not _take_duration(

@@ -108,6 +108,30 @@ def _residual(start, target, t, u, second_order, with_position, ends):
 
 
 @njit(cache=True, error_model="numpy")
+def _end_miss(start, target, t, u, second_order, with_position):
+    """The largest relative miss of the target by the phases (the scales of :func:`_residual`)."""
+    p, v, a = start[0], start[1], start[2]
+    sp = max(abs(p), abs(target[0]))
+    sv = max(abs(v), abs(target[1]), 1e-300)
+    sa = max(abs(a), abs(target[2]), 1e-300)
+    for k in range(PHASES):
+        tk = t[k]
+        if tk > 0.0:
+            a, j = _control(u[k], a, second_order)
+            p = p + tk * (v + tk * (a / 2.0 + tk * j / 6.0))
+            v = v + tk * (a + tk * j / 2.0)
+            a = a + tk * j
+        sp = max(sp, abs(p))
+        sv = max(sv, abs(v))
+        sa = max(sa, abs(a))
+    miss = abs(target[0] - p) / sp if with_position else 0.0
+    miss = max(miss, abs(target[1] - v) / sv)
+    if not second_order:
+        miss = max(miss, abs(target[2] - a) / sa)
+    return miss
+
+
+@njit(cache=True, error_model="numpy")
 def _excess(start, t, u, second_order, limits):
     """Largest excess of the profile phases' velocity and acceleration over ``limits``.
 
@@ -152,6 +176,8 @@ def polish(start, target, t, u, second_order, with_position, limits):
     acceleration past ``limits`` (v_min, v_max, a_min, a_max) further than the plan
     did, are not applied.
     """
+    if _end_miss(start, target, t, u, second_order, with_position) <= 4.0 * _EPS:
+        return  # most plans: no allocation
     ends = np.empty((PHASES, 3))
     rows = np.zeros((4, PHASES))
     factor = np.zeros(PHASES)  # each phase's weight per unit of its duration
@@ -413,14 +439,8 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
                     count += 1
     breakpoints[count] = duration
     count += 1
-    # Sort (a few dozen entries) and merge near-duplicates.
-    for k in range(1, count):
-        key = breakpoints[k]
-        m = k - 1
-        while m >= 0 and breakpoints[m] > key:
-            breakpoints[m + 1] = breakpoints[m]
-            m -= 1
-        breakpoints[m + 1] = key
+    # Sort (a few dozen entries, one sorted run per joint) and merge near-duplicates.
+    breakpoints[:count].sort()
     merged = 1
     for k in range(1, count):
         if breakpoints[k] - breakpoints[merged - 1] > MERGE * duration:
