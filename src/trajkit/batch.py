@@ -271,14 +271,38 @@ def _matrix(
             f"problems must have shape (B, ndof) with B, ndof >= 1, got {shape}"
         )
     m = np.empty((shape[0], 11, shape[1]))
-    for k, row in enumerate(rows):
-        m[:, k] = row
-    from trajkit.profiles._kernels.admissible import admissible_batch
-
-    bad = engine.run("admissible_batch", admissible_batch, m)
-    if bad >= 0:
-        _explain(planner, m[bad], bad)
+    ok = np.empty(shape[0], np.bool_)
+    _assembler()(tuple(np.broadcast_to(row, shape) for row in rows), m, ok)
+    bad = np.flatnonzero(~ok)
+    if bad.size:
+        _explain(planner, m[bad[0]], int(bad[0]))
     return m
+
+
+def _assembler() -> Any:
+    """The kernel that fills and checks a batch, compiled for one signature only.
+
+    Its rows are read-only broadcast views, contiguous or not: one compiled copy
+    for strided views takes them all (a contiguous one converts), and no other is
+    compiled.
+    """
+    global _assemble
+    if _assemble is None:
+        from trajkit.profiles._kernels.admissible import assemble_batch
+
+        engine.prepare("assemble_batch", assemble_batch, _assemble_signature)
+        if hasattr(assemble_batch, "disable_compile"):
+            assemble_batch.disable_compile()
+        _assemble = assemble_batch
+    return _assemble
+
+
+def _assemble_signature(numba: Any) -> tuple:
+    row = numba.types.Array(numba.float64, 2, "A", readonly=True)
+    return (numba.types.UniTuple(row, 11), numba.float64[:, :, ::1], numba.boolean[::1])
+
+
+_assemble: Any = None
 
 
 def _explain(planner: str, m: FloatArray, i: int) -> None:

@@ -33,6 +33,7 @@ __all__ = [
     "EngineResult",
     "kernels",
     "phase_plan",
+    "prepare",
     "solve",
     "unpack",
     "warm",
@@ -96,25 +97,32 @@ def run(name: str, kernel: Any, *args: Any) -> Any:
     appears at most once per process, only when a first call outlasts
     ``_ANNOUNCE_AFTER``.
     """
-    if name in _warm:
-        return kernel(*args)
+    if name not in _warm:
+        # Compile (or load) for these argument types before running, so that only
+        # compiling is timed: a long first batch is no compilation.
+        prepare(name, kernel, lambda numba: tuple(numba.typeof(a) for a in args))
+    return kernel(*args)
+
+
+def prepare(name: str, kernel: Any, signature: Any) -> None:
+    """Compile (or load) ``kernel`` for ``signature(numba)`` (its argument types), announced.
+
+    Without numba's JIT (``NUMBA_DISABLE_JIT=1``) there is nothing to compile.
+    """
     with _lock:
         timer = threading.Timer(_ANNOUNCE_AFTER, _announce)
         timer.daemon = True
         timer.start()
         started = time.perf_counter()
         try:
-            # Compile (or load) for these argument types before running, so that
-            # only compiling is timed: a long first batch is no compilation.
             if hasattr(kernel, "compile"):
                 import numba
 
-                kernel.compile(tuple(numba.typeof(a) for a in args))
+                kernel.compile(signature(numba))
         finally:
             timer.cancel()
             _warm.add(name)
             _compile_times[name] = time.perf_counter() - started
-    return kernel(*args)
 
 
 def warm() -> float:
@@ -313,14 +321,14 @@ def solve(
     )
 
 
-def unpack(plan: FloatArray, m: FloatArray) -> EngineResult:
-    """The result of one problem from the flat ``plan`` of the kernels' ``quick``."""
+def unpack(plan: FloatArray, ndof: int) -> tuple[FloatArray, EngineResult]:
+    """The matrix and the result of one problem from the flat ``plan`` of ``quick``."""
     from trajkit.profiles._kernels.solve import plan_layout
 
-    ndof = m.shape[1]
-    o_records, o_own, o_out, o_t, o_u, size = plan_layout(ndof)
+    o_m, o_records, o_own, o_out, o_t, o_u, size = plan_layout(ndof)
+    m = plan[o_m:o_records].reshape(11, ndof)
     out = plan[o_out:o_t]
-    return EngineResult(
+    return m, EngineResult(
         out[0],
         np.int64(out[1]),
         np.bool_(out[2] == 1.0),

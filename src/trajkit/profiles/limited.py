@@ -148,15 +148,20 @@ def _check_target(p: Problem) -> None:
 
 
 _FAST_SCALARS = (float, int, np.float64)
+_FLOAT64 = np.dtype(np.float64)
 
 
-def _fast_row(value: object, ndof: int) -> object:
-    """``value`` as one row of the problem matrix if it is plainly numbers, else None.
+def _fast_row(value: object, ndof: int) -> FloatArray | None:
+    """``value`` as a float64 vector of the problem's rows if it is plainly numbers.
 
-    A number becomes a (cached, never exposed) row of ``ndof`` copies; bools,
-    strings, NaN keys and odd shapes are left to the validators.
+    A number becomes a (cached, only ever read) vector of ``ndof`` copies, a list
+    or tuple of numbers a new vector; a float64 array is taken as it is (its
+    length is checked where it is read). Bools, strings, NaN keys and other
+    dtypes are left to the validators (None).
     """
     kind = type(value)
+    if kind is np.ndarray:
+        return value if value.dtype is _FLOAT64 else None  # type: ignore[union-attr,return-value]
     if kind in _FAST_SCALARS:
         key = (value, ndof)
         row = _CONSTANT_ROWS.get(key)
@@ -168,15 +173,14 @@ def _fast_row(value: object, ndof: int) -> object:
             except OverflowError:  # a Python int beyond float64
                 return None
         return row
-    if kind is np.ndarray:
-        return value if value.dtype == np.float64 and value.shape == (ndof,) else None  # type: ignore[union-attr]
     if kind is list or kind is tuple:
-        if len(value) != ndof:  # type: ignore[arg-type]
-            return None
         for x in value:  # type: ignore[union-attr]
             if type(x) not in _FAST_SCALARS:
                 return None
-        return value
+        try:
+            return np.array(value, dtype=np.float64)
+        except OverflowError:
+            return None
     return None
 
 
@@ -273,18 +277,26 @@ def _read_fast(q0, qf, vmax, amax, jmax, v0, vf, a0, af, sync) -> Problem | None
     return Problem(m, codes[0][1], codes[1])
 
 
-def _run_quick(m: FloatArray, negate: int, codes: NDArray[np.int64]) -> tuple:
-    """Call the kernels' ``quick``, through :func:`engine.run` only the first time.
+def _run_quick(*args: object) -> tuple:
+    """Call the kernels' ``quick``, compiled for contiguous float64 vectors only.
 
-    The first call may compile (and is announced); after it a microsecond counts.
+    The first call compiles (or loads) that one signature, announced if it takes
+    long, and forbids any other: a vector of another layout (read-only, strided)
+    raises TypeError instead of compiling a second copy for minutes.
     """
     global _quick
-    if _quick is not None:
-        return _quick(m, negate, codes)
-    kernel = engine.kernels().quick
-    result = engine.run("quick", kernel, m, negate, codes)
-    _quick = kernel
-    return result
+    if _quick is None:
+        kernel = engine.kernels().quick
+        engine.prepare("quick", kernel, _quick_signature)
+        if hasattr(kernel, "disable_compile"):
+            kernel.disable_compile()
+        _quick = kernel
+    return _quick(*args)
+
+
+def _quick_signature(numba: Any) -> tuple:
+    vector = numba.float64[::1]
+    return (vector,) * 11 + (numba.int64, numba.int64[:, ::1])
 
 
 _quick: Any = None  # the compiled kernel, once it has run
@@ -318,17 +330,18 @@ def quick_trajectory(
         return None
     ndof, rows, negate = plain
     codes = _sync_codes(sync, ndof)
-    m = _matrix(rows, ndof)
-    if codes is None or m is None:
+    if codes is None:
         return None
-    status, _, breakpoints, coefficients, end, flat = _run_quick(m, negate, codes[0])
+    try:
+        status, _, breakpoints, coefficients, end, flat = _run_quick(*rows, negate, codes[0])
+    except TypeError:  # a vector the compiled kernel does not take: the full road copies it
+        return None
     if status != engine.STATUS_OK:
         return None
 
     def build() -> dict[str, Any]:
-        problem = Problem(m, codes[0][1], codes[1])
-        result = engine.unpack(flat, m)
-        return _info(planner, problem, result, None, info)
+        m, result = engine.unpack(flat, ndof)
+        return _info(planner, Problem(m, codes[0][1], codes[1]), result, None, info)
 
     return Trajectory._trusted(breakpoints, coefficients, LazyInfo(build), end)
 

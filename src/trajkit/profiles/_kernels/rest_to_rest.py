@@ -32,26 +32,33 @@ from trajkit.profiles._kernels.admissible import (
     V_MIN,
     VF,
 )
+from trajkit.profiles._kernels.codes import (
+    OUT_DURATION,
+    OUT_JOINT,
+    OUT_LIMITING,
+    OUT_PHASE,
+    POSITION,
+    SYNC_NONE,
+    SYNC_PHASE,
+    SYNC_TIME,
+    SYNC_TIME_IF_NECESSARY,
+)
 from trajkit.profiles._kernels.layout import (
     ACC0,
     ACC0_ACC1,
     ACC0_ACC1_VEL,
     NONE,
+    PF,
     SIZE,
     T_SUM,
     UDDU,
     VEL,
+    P,
     T,
+    V,
 )
 from trajkit.profiles._kernels.profile import check, check_second_order, round_up, set_boundary
 
-# Codes shared with .synchronize (which imports this module).
-_POSITION = 0
-_SYNC_TIME = 0
-_SYNC_PHASE = 1
-_SYNC_TIME_IF_NECESSARY = 2  # at rest at the end: votes for the duration, moves on its own
-SYNC_NONE = 3
-_OUT_DURATION, _OUT_LIMITING, _OUT_PHASE, _OUT_JOINT = 0, 1, 2, 3
 _EPS = 2.220446049250313e-16
 
 
@@ -63,7 +70,7 @@ def applies(m, control, sync, enabled):
     magnitudes that need a change of units).
     """
     for d in range(m.shape[1]):
-        if enabled[d] == 0 or control[d] != _POSITION or sync[d] == _SYNC_PHASE:
+        if enabled[d] == 0 or control[d] != POSITION or sync[d] == SYNC_PHASE:
             return False
         if m[V0, d] != 0.0 or m[VF, d] != 0.0 or m[A0, d] != 0.0 or m[AF, d] != 0.0:
             return False
@@ -106,8 +113,23 @@ def _accept(prof, distance, limits, v, a, j):
     """Check a third-order (finite ``j``) or second-order record in the move's direction."""
     s = 1.0 if distance >= 0.0 else -1.0
     if math.isinf(j):
-        return check_second_order(prof, UDDU, limits, s * a, -s * a, s * v, -s * v)
-    return check(prof, UDDU, limits, s * j, s * v, -s * v, s * a, -s * a, True)
+        accepted = check_second_order(prof, UDDU, limits, s * a, -s * a, s * v, -s * v)
+    else:
+        accepted = check(prof, UDDU, limits, s * j, s * v, -s * v, s * a, -s * a, True)
+    return accepted and _lands(prof)
+
+
+# A closed form lands on its target to rounding: this share of the positions' size
+# (the checks' absolute 1e-8 is far looser; the pieces absorb up to 1e-12).
+LANDING_RTOL = 1e-13
+
+
+@njit(cache=True, error_model="numpy")
+def _lands(prof):
+    size = abs(prof[PF])
+    for i in range(8):
+        size = max(size, abs(prof[P + i]), abs(prof[V + i]) * prof[T_SUM + 6])
+    return abs(prof[P + 7] - prof[PF]) <= LANDING_RTOL * size
 
 
 @njit(cache=True, error_model="numpy")
@@ -213,7 +235,7 @@ def timed(prof, p0, pf, tf, v, a, j):
         ramp = w / a
         prof[T] = ramp
         prof[T + 1] = tf - 2.0 * ramp
-        prof[T + 2] = ramp
+        prof[T + 2] = tf - (ramp + prof[T + 1])  # the phases sum to tf exactly
         return _accept(prof, distance, ACC0, v, a, j)
     jerk_ramp = a / j
     # Acceleration limit held, coast lowered: d = w (tf - w / a - a / j).
@@ -225,12 +247,27 @@ def timed(prof, p0, pf, tf, v, a, j):
         coast = tf - 2.0 * (w / a + jerk_ramp)
         if hold >= 0.0 and coast >= 0.0:
             _times(prof, jerk_ramp, hold, jerk_ramp, coast)
+            _last_takes_rest(prof, tf)
             if _accept(prof, distance, ACC0_ACC1_VEL, v, a, j):
                 return True
             _clear(prof, p0, pf)
     s = _stretched_cubic(d, tf, j)
     _times(prof, s, 0.0, s, tf - 4.0 * s)
+    _last_takes_rest(prof, tf)
     return _accept(prof, distance, VEL, v, a, j)
+
+
+@njit(cache=True, error_model="numpy")
+def _last_takes_rest(prof, tf):
+    """Make the seven phases sum to ``tf`` exactly, as every joint's clock adds them up.
+
+    A sum an ulp off the common duration would end the joint's last ramp an ulp
+    early or late; at t = 1000 s and 1e9 rad/s^2 that is 1e-4 rad/s.
+    """
+    partial = 0.0
+    for i in range(6):
+        partial += prof[T + i]
+    prof[T + 6] = tf - partial
 
 
 @njit(cache=True, error_model="numpy")
@@ -248,7 +285,7 @@ def plan(m, sync, min_duration, dt, profiles, independent, out):
         if own < 0.0:
             return False
         independent[d] = own
-        if sync[d] == _SYNC_TIME or sync[d] == _SYNC_TIME_IF_NECESSARY:
+        if sync[d] == SYNC_TIME or sync[d] == SYNC_TIME_IF_NECESSARY:
             if own > duration:  # of joints that tie, the first is the limiting one
                 duration = own
                 limiting = d
@@ -272,14 +309,16 @@ def plan(m, sync, min_duration, dt, profiles, independent, out):
             if own > duration:
                 duration = own
                 limiting = d
-    out[_OUT_DURATION] = duration
-    out[_OUT_LIMITING] = limiting
-    out[_OUT_PHASE] = 0.0
-    out[_OUT_JOINT] = -1.0
+    out[OUT_DURATION] = duration
+    out[OUT_LIMITING] = limiting
+    out[OUT_PHASE] = 0.0
+    out[OUT_JOINT] = -1.0
     if duration == 0.0:
         return True
+    # A joint synchronized only if necessary ends at rest: it votes for the duration
+    # but moves as fast as it can (and waits), as a joint on its own does.
     for d in range(ndof):
-        if sync[d] == _SYNC_TIME:
+        if sync[d] == SYNC_TIME:
             target = duration
         elif discrete and sync[d] == SYNC_NONE:
             target = round_up(independent[d], dt)

@@ -94,42 +94,55 @@ def one(
 
 
 def plan_layout(ndof):
-    """Offsets in :func:`quick`'s flat plan: records, own, out, t, u, and its size."""
-    records = 0
+    """Offsets in :func:`quick`'s flat plan: matrix, records, own, out, t, u; its size."""
+    matrix = 0
+    records = matrix + 11 * ndof
     own = records + ndof * SIZE
     out = own + ndof
     t = out + synchronize.OUT_SIZE
     u = t + ndof * tables.PHASES
-    return records, own, out, t, u, u + ndof * tables.PHASES
+    return matrix, records, own, out, t, u, u + ndof * tables.PHASES
 
 
 plan_layout_compiled = njit(cache=True)(plan_layout)
 
 
 @njit(cache=True, error_model="numpy")
-def quick(m, negate, codes):
-    """One problem with default options, from its matrix to its pieces in one call.
+def quick(q0, qf, v0, vf, a0, af, v_low, v_high, a_low, a_high, j_max, negate, codes):
+    """One problem with default options, from its rows to its pieces in one call.
 
-    ``m`` (11, ndof) as :func:`one`'s, except that the rows ``v_min`` and ``a_min``
-    hold magnitudes where ``negate`` says so (negated here, in place); ``codes``
-    (3, ndof) holds the rows control, sync, enabled. Checks the problem
-    (:func:`.admissible.admissible`) and plans it: returns ``(status, count,
-    breakpoints, coefficients, end, plan)``, ``plan`` the flat records, own
-    durations, summary and phase tables at :func:`plan_layout`'s offsets.
+    The eleven rows of :func:`one`'s matrix come as vectors (not copied by the
+    caller: they are only read), ``v_low`` and ``a_low`` as magnitudes where
+    ``negate`` says so; ``codes`` (3, ndof) holds the rows control, sync,
+    enabled. Checks the problem (lengths, :func:`.admissible.admissible`) and
+    plans it: returns ``(status, count, breakpoints, coefficients, end, plan)``,
+    ``plan`` the flat matrix, records, own durations, summary and phase tables at
+    :func:`plan_layout`'s offsets.
     """
-    ndof = m.shape[1]
-    for d in range(ndof):
-        if negate & NEGATE_V_MIN:
-            m[V_MIN, d] = -m[V_MIN, d]
-        if negate & NEGATE_A_MIN:
-            m[A_MIN, d] = -m[A_MIN, d]
-    o_records, o_own, o_out, o_t, o_u, size = plan_layout_compiled(ndof)
+    ndof = q0.shape[0]
+    o_m, o_records, o_own, o_out, o_t, o_u, size = plan_layout_compiled(ndof)
     plan = np.empty(size)
     pieces = tables.PHASES * ndof + 1
     breakpoints = np.empty(pieces + 1)
     coefficients = np.empty((4, pieces, ndof))
     end = np.empty((3, ndof))
-    if not admissible(m):
+    m = plan[o_m:o_records].reshape((11, ndof))
+    rows = (q0, qf, v0, vf, a0, af, v_low, v_high, a_low, a_high, j_max)
+    fits = codes.shape[1] == ndof
+    for r in range(11):
+        row = rows[r]
+        if row.shape[0] != ndof:
+            fits = False
+            break
+        for d in range(ndof):
+            m[r, d] = row[d]
+    if fits:
+        for d in range(ndof):
+            if negate & NEGATE_V_MIN:
+                m[V_MIN, d] = -m[V_MIN, d]
+            if negate & NEGATE_A_MIN:
+                m[A_MIN, d] = -m[A_MIN, d]
+    if not (fits and admissible(m)):
         return INADMISSIBLE, 0, breakpoints[:1], coefficients[:, :0], end, plan
     status, count = one(
         m,

@@ -40,6 +40,24 @@ from trajkit.profiles._kernels.admissible import (
     V_MIN,
     VF,
 )
+from trajkit.profiles._kernels.codes import (  # noqa: F401 (the entry points' codes)
+    OK,
+    OUT_DURATION,
+    OUT_JOINT,
+    OUT_LIMITING,
+    OUT_PHASE,
+    OUT_SIZE,
+    POSITION,
+    STEP1_FAILED,
+    STEP2_FAILED,
+    SYNC_FAILED,
+    SYNC_NONE,
+    SYNC_PHASE,
+    SYNC_TIME,
+    SYNC_TIME_IF_NECESSARY,
+    VELOCITY,
+    ZERO_LIMITS,
+)
 from trajkit.profiles._kernels.layout import (
     AF as REC_AF,
 )
@@ -71,30 +89,7 @@ from trajkit.profiles._kernels.profile import (
     set_boundary,
 )
 
-# Control interface of a joint.
-POSITION = 0
-VELOCITY = 1
-
-# Synchronization of a joint.
-SYNC_TIME = 0
-SYNC_PHASE = 1
-SYNC_TIME_IF_NECESSARY = 2
-SYNC_NONE = 3
-_LAW = 4  # internal: a phase-synchronized joint following the shared law
-
-# Status codes of plan(); the failing joint is reported beside them.
-OK = 0
-STEP1_FAILED = 1  # no profile for this joint alone (numerical failure)
-ZERO_LIMITS = 2  # a zero limit makes the joint's move impossible
-SYNC_FAILED = 3  # no common duration every joint can take
-STEP2_FAILED = 4  # a joint could not take the common duration
-
-# Fields of the per-problem summary written by plan().
-OUT_DURATION = 0
-OUT_LIMITING = 1  # joint index, -1 where min_duration set the duration
-OUT_PHASE = 2  # 1 if phase synchronization held, 0 if it fell back to time sync
-OUT_JOINT = 3  # the joint a failure is about, -1 otherwise
-OUT_SIZE = 4
+_LAW = 4  # a phase-synchronized joint following the shared law (beside the SYNC_ codes)
 
 _EPS = 2.220446049250313e-16
 
