@@ -61,7 +61,7 @@ def readonly(x):
         readonly,
         lambda x: np.repeat(np.asarray(x, dtype=float), 2)[::2],  # strided
         lambda x: [float(v) for v in x],
-        lambda x: [int(round(v)) for v in x],
+        lambda x: [round(float(v)) for v in x],
         lambda x: np.asarray(x, dtype=np.float32),
         lambda x: np.asarray(x, dtype=float).astype(">f8"),  # other byte order
     ],
@@ -104,9 +104,15 @@ def test_an_unreachable_target_on_the_short_road_is_refused_by_name():
 
 
 def test_the_short_road_returns_none_for_what_it_does_not_take():
-    assert limited.quick_trajectory(
-        "scurve", Q0, QF, *LIMITS, v0=0.0, vf=0.0, a0=0.0, af=0.0, sync=["time"] * 3
-    ) is None
-    assert limited.quick_trajectory(
-        "scurve", "0", QF, *LIMITS, v0=0.0, vf=0.0, a0=0.0, af=0.0, sync="time"
-    ) is None
+    assert (
+        limited.quick_trajectory(
+            "scurve", Q0, QF, *LIMITS, v0=0.0, vf=0.0, a0=0.0, af=0.0, sync=["time"] * 3
+        )
+        is None
+    )
+    assert (
+        limited.quick_trajectory(
+            "scurve", "0", QF, *LIMITS, v0=0.0, vf=0.0, a0=0.0, af=0.0, sync="time"
+        )
+        is None
+    )
