@@ -22,12 +22,13 @@ states), so it is the same work that is timed.
      may cost whole periods over ruckig's duration-only grid: the difference is
      printed in periods, and single ``tk.scurve(..., dt, grid="duration")`` calls
      on a sample are checked against ruckig to ~1e-6.
-6.   Online, period 1 ms: ``tk.online.Generator.update`` (plans every cycle) vs
-     ruckig's ``update`` + ``pass_to_input``, us per control cycle, the states
-     compared cycle by cycle. Fixed targets (move j from rest at q0[j] to qf[j],
-     stepped until reached): ruckig plans once per move and samples its trajectory
-     after that. A target that moves every cycle (a sine per joint): both plan
-     every cycle. A move trajkit fails on is reported and left out of the timing.
+6.   Online, period 1 ms: ``tk.online.Generator.update`` vs ruckig's ``update`` +
+     ``pass_to_input``, us per control cycle, the states compared cycle by cycle.
+     Both plan when the target changes and sample their plan otherwise. Fixed
+     targets (move j from rest at q0[j] to qf[j], stepped until reached): each
+     plans once per move. A target that moves every cycle (a sine per joint):
+     both plan every cycle. A move trajkit fails on is reported and left out of
+     the timing.
 
 The first trajkit call of each kind compiles the numba kernels (or loads them from
 the cache): that warm-up is timed apart, before everything else.
@@ -356,7 +357,7 @@ def online(p: dict[str, np.ndarray], moves: int, cycles: int, repeats: int) -> N
             f"{label}: {ours_cycles} cycles trajkit, {theirs_cycles} ruckig, which planned "
             f"in {calculations}"
         )
-    print(f"  {'; '.join(notes)}; trajkit plans every cycle; last column: largest |q| gap")
+    print(f"  {'; '.join(notes)}; last column: largest |q| gap")
     ours, theirs = cycle_times(p, online_targets(p, cycles))
     print(
         "  target moving, each cycle timed alone (us): trajkit median "

@@ -1,11 +1,13 @@
-"""Online trajectory generation: re-plan from the current state every control cycle.
+"""Online trajectory generation: plan from the current state whenever the target changes.
 
 A :class:`Generator` is what a control loop calls once per period: it plans the
 time-optimal jerk-limited (or acceleration-limited) motion from the current state
 to the target, as :func:`trajkit.scurve` would, and returns the state one period
-later. The target may change between calls (jogging, a moving goal); the motion
-stays within the limits and continuous in acceleration because each cycle starts
-from the state the previous one reached.
+later. The target may change between calls (jogging, a moving goal): a changed
+target is planned afresh from the state the previous cycle reached, so the motion
+stays within the limits and continuous in acceleration; an unchanged one follows
+the plan made for it (as ruckig's online update does), so a fixed target is
+planned once.
 
 Examples
 --------
@@ -45,7 +47,7 @@ class OnlineState(NamedTuple):
 
 
 class Generator:
-    """Plans every cycle from the current state to the target; returns the next state.
+    """Plans from the current state to the target when it changes; returns the next state.
 
     Parameters
     ----------
@@ -65,9 +67,11 @@ class Generator:
 
     Notes
     -----
-    Each :meth:`update` runs one compiled call (plan and evaluate); no
-    :class:`~trajkit.Trajectory` is built. The start state may be beyond the
-    limits (it is braked back), the target must be within them.
+    Each :meth:`update` runs one compiled call (plan if the target, the state or
+    the interface changed, then evaluate); no :class:`~trajkit.Trajectory` is
+    built. The start state may be beyond the limits (it is braked back), the
+    target must be within them. :attr:`duration` is the time the motion still
+    needed when the last cycle began (s).
     """
 
     def __init__(
@@ -108,11 +112,13 @@ class Generator:
         # (theirs jumps): the reported acceleration is kept apart.
         self._acceleration = self._m[4].copy()
         self._state = OnlineState(self._m[0], self._m[2], self._acceleration)
-        self.duration = 0.0  # of the last plan (s)
+        self.duration = 0.0  # the motion's time left when the last cycle began (s)
         self._held: list[float | int | None] = [None] * 11  # numbers in the target rows
         from trajkit.profiles._kernels import solve
 
         self._inadmissible = solve.INADMISSIBLE
+        self._remaining = solve.MEMO_REMAINING
+        self._memo = np.zeros(solve.memo_size(self.ndof))  # the plan held between cycles
         self._cycle = solve.online_cycle
 
     @property
@@ -176,12 +182,13 @@ class Generator:
         code = engine.run(
             "online_cycle", self._cycle, self._m, control, self._sync, self._enabled,
             self.dt, self._records, self._own, self._out, self._next, self._acceleration,
+            self._memo,
         )  # fmt: skip
         if code != engine.STATUS_OK:
             if code == self._inadmissible:
                 self._explain()
             raise engine._failure("online", code, self._out, self._m, "")
-        self.duration = float(self._out[0])
+        self.duration = float(self._memo[self._remaining])
         return self._state, self.duration <= self.dt
 
     def _explain(self) -> None:

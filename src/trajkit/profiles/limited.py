@@ -261,12 +261,12 @@ def _read_fast(q0, qf, vmax, amax, jmax, v0, vf, a0, af, sync) -> Problem | None
     from trajkit.profiles._kernels.admissible import admissible
 
     plain = _plain_rows(q0, qf, vmax, amax, jmax, v0, vf, a0, af)
-    codes = _sync_codes(sync, 1 if plain is None else plain[0])
-    if plain is None or codes is None:
+    if plain is None:
         return None
     ndof, rows, negate = plain
+    codes = _sync_codes(sync, ndof)
     m = _matrix(rows, ndof)
-    if m is None:
+    if codes is None or m is None:
         return None
     if negate & 1:
         m[6] *= -1.0

@@ -206,69 +206,133 @@ def batch(m, control, sync, enabled, min_duration, dt, switches, t, u, own, out,
 
 
 @njit(cache=True, error_model="numpy")
-def online_step(m, control, sync, enabled, period, records, own, out, state):
-    """Plan one problem and write its state one ``period`` later into ``state`` (3, ndof).
+def _plan_online(m, control, sync, enabled, records, own, out):
+    """Plan from the current state; a joint that cannot take the common duration moves alone.
 
-    Returns the status; where the motion ends within the period the state is the
-    target itself.
+    The timed law fails near the end of some moves planned afresh from where an
+    earlier plan left them; that joint moves on its own then, and the next plan
+    synchronizes again.
     """
     status = synchronize.plan(m, control, sync, enabled, np.nan, 0.0, records, own, out)
-    ndof = m.shape[1]
     relaxed = sync
     copied = False
-    for _ in range(ndof):
+    for _ in range(m.shape[1]):
         if status != synchronize.STEP2_FAILED or out[synchronize.OUT_JOINT] < 0:
             break
-        # A joint that cannot take the common duration (the timed law fails near
-        # the end of some moves, planned afresh from where the last cycle left
-        # them) moves on its own this cycle: the next cycle synchronizes again.
         if not copied:
             relaxed = sync.copy()
             copied = True
         relaxed[int(out[synchronize.OUT_JOINT])] = synchronize.SYNC_NONE
         status = synchronize.plan(m, control, relaxed, enabled, np.nan, 0.0, records, own, out)
-    if status != synchronize.OK:
-        return status
-    duration = out[synchronize.OUT_DURATION]
-    finished = duration <= period
-    for d in range(ndof):
-        if finished:
+    return status
+
+
+@njit(cache=True, error_model="numpy")
+def _sample_online(m, control, records, duration, time, state):
+    """The planned state ``time`` s after the plan's start into ``state`` (3, ndof).
+
+    Past the end the target itself (a velocity target: coasting on at it).
+    """
+    for d in range(m.shape[1]):
+        if time >= duration:
             state[1, d] = m[3, d]
             state[2, d] = m[5, d]
             if control[d] == POSITION:
                 state[0, d] = m[1, d]
             else:
-                # No position target: from where the motion ended, at the target velocity.
-                rest = period - duration
+                rest = time - duration
                 state[0, d] = records[d, P + 7] + rest * (m[3, d] + rest * m[5, d] / 2.0)
                 state[1, d] = m[3, d] + rest * m[5, d]
             continue
-        p, v, a, _ = profile.state_at(records[d], period)
-        if np.isinf(m[J_MAX, d]) and period >= records[d, T_SUM + 6] + records[d, BRAKE_DURATION]:
+        p, v, a, _ = profile.state_at(records[d], time)
+        if np.isinf(m[J_MAX, d]) and time >= records[d, T_SUM + 6] + records[d, BRAKE_DURATION]:
             a = 0.0  # past a trapezoid's end it coasts
         state[0, d] = p
         state[1, d] = v
         state[2, d] = a
-    return status
+
+
+# Fields of an online generator's memo: whether it holds a plan, the plan's control
+# interface, the time since the plan started, its duration left when the last cycle
+# began; then the target rows it was planned for and the state the last cycle left
+# (rows qf, vf, af and q0, v0, a0 of the problem, ndof each).
+MEMO_HELD = 0
+MEMO_CONTROL = 1
+MEMO_ELAPSED = 2
+MEMO_REMAINING = 3
+MEMO_ROWS = 4
+_TARGET_ROWS = (1, 3, 5)
+_STATE_ROWS = (0, 2, 4)
+
+
+def memo_size(ndof):
+    """Length of an online generator's memo for ``ndof`` joints."""
+    return MEMO_ROWS + 6 * ndof
 
 
 @njit(cache=True, error_model="numpy")
-def online_cycle(m, control, sync, enabled, period, records, own, out, state, acceleration):
-    """One control cycle: check the problem, step it one ``period``, make that state current.
+def _memo_matches(m, rows, memo, offset):
+    ndof = m.shape[1]
+    for k in range(3):
+        for d in range(ndof):
+            if m[rows[k], d] != memo[offset + k * ndof + d]:
+                return False
+    return True
 
-    As :func:`online_step`, then the rows q0, v0, a0 of ``m`` take the new state
-    (an acceleration-limited joint carries no acceleration into the next plan: its
-    reported one goes to ``acceleration`` only). Returns the status,
-    ``INADMISSIBLE`` where the validators must say why; ``m`` changes only on success.
+
+@njit(cache=True, error_model="numpy")
+def _remember(m, rows, memo, offset):
+    ndof = m.shape[1]
+    for k in range(3):
+        for d in range(ndof):
+            memo[offset + k * ndof + d] = m[rows[k], d]
+
+
+@njit(cache=True, error_model="numpy")
+def online_cycle(m, control, sync, enabled, period, records, own, out, state, acceleration, memo):
+    """One control cycle: the state one ``period`` on, made the current one.
+
+    As ruckig's online update: a plan is made when the target (or the state, or
+    the control interface) differs from what the held plan was made for, and
+    followed otherwise, so that a fixed target is planned once and its motion is
+    that one plan, sampled. ``m``'s rows q0, v0 and ``acceleration`` hold the
+    current state and take the new one (row a0 follows ``acceleration``, except
+    that an acceleration-limited joint carries no acceleration into a plan);
+    ``records``, ``own``, ``out`` and ``memo`` (:func:`memo_size`) persist
+    between cycles. Returns the status, ``INADMISSIBLE`` where the validators
+    must say why; the state changes only on success.
     """
-    if not admissible(m):
-        return INADMISSIBLE
-    status = online_step(m, control, sync, enabled, period, records, own, out, state)
-    if status != synchronize.OK:
-        return status
-    for d in range(m.shape[1]):
+    ndof = m.shape[1]
+    for d in range(ndof):  # the reported acceleration is the state (a caller may set it)
+        if not np.isinf(m[J_MAX, d]):
+            m[A0, d] = acceleration[d]
+    held = (
+        memo[MEMO_HELD] == 1.0
+        and memo[MEMO_CONTROL] == control[0]
+        and _memo_matches(m, _TARGET_ROWS, memo, MEMO_ROWS)
+        and _memo_matches(m, _STATE_ROWS, memo, MEMO_ROWS + 3 * ndof)
+    )
+    elapsed = memo[MEMO_ELAPSED]
+    if not held:
+        memo[MEMO_HELD] = 0.0
+        if not admissible(m):
+            return INADMISSIBLE
+        status = _plan_online(m, control, sync, enabled, records, own, out)
+        if status != synchronize.OK:
+            return status
+        memo[MEMO_HELD] = 1.0
+        memo[MEMO_CONTROL] = control[0]
+        _remember(m, _TARGET_ROWS, memo, MEMO_ROWS)
+        elapsed = 0.0
+    duration = out[synchronize.OUT_DURATION]
+    memo[MEMO_REMAINING] = duration - elapsed
+    elapsed += period
+    _sample_online(m, control, records, duration, elapsed, state)
+    for d in range(ndof):
         m[Q0, d] = state[0, d]
         m[V0, d] = state[1, d]
         acceleration[d] = state[2, d]
         m[A0, d] = 0.0 if np.isinf(m[J_MAX, d]) else state[2, d]
-    return status
+    memo[MEMO_ELAPSED] = elapsed
+    _remember(m, _STATE_ROWS, memo, MEMO_ROWS + 3 * ndof)
+    return synchronize.OK
