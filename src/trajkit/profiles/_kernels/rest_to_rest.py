@@ -235,7 +235,9 @@ def timed(prof, p0, pf, tf, v, a, j):
         ramp = w / a
         prof[T] = ramp
         prof[T + 1] = tf - 2.0 * ramp
-        prof[T + 2] = tf - (ramp + prof[T + 1])  # the phases sum to tf exactly
+        # The phases sum to tf exactly (as the general law's do): an ulp off, the last
+        # ramp would end an ulp early or late, 1e-4 rad/s at t = 1000 s and 1e9 rad/s^2.
+        prof[T + 2] = tf - (ramp + prof[T + 1])
         return _accept(prof, distance, ACC0, v, a, j)
     jerk_ramp = a / j
     # Acceleration limit held, coast lowered: d = w (tf - w / a - a / j).
@@ -247,27 +249,12 @@ def timed(prof, p0, pf, tf, v, a, j):
         coast = tf - 2.0 * (w / a + jerk_ramp)
         if hold >= 0.0 and coast >= 0.0:
             _times(prof, jerk_ramp, hold, jerk_ramp, coast)
-            _last_takes_rest(prof, tf)
             if _accept(prof, distance, ACC0_ACC1_VEL, v, a, j):
                 return True
             _clear(prof, p0, pf)
     s = _stretched_cubic(d, tf, j)
     _times(prof, s, 0.0, s, tf - 4.0 * s)
-    _last_takes_rest(prof, tf)
     return _accept(prof, distance, VEL, v, a, j)
-
-
-@njit(cache=True, error_model="numpy")
-def _last_takes_rest(prof, tf):
-    """Make the seven phases sum to ``tf`` exactly, as every joint's clock adds them up.
-
-    A sum an ulp off the common duration would end the joint's last ramp an ulp
-    early or late; at t = 1000 s and 1e9 rad/s^2 that is 1e-4 rad/s.
-    """
-    partial = 0.0
-    for i in range(6):
-        partial += prof[T + i]
-    prof[T + 6] = tf - partial
 
 
 @njit(cache=True, error_model="numpy")

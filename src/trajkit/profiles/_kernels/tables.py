@@ -50,6 +50,10 @@ POLISH_MAX_CHANGE = 1e-3
 JERK_PHASE_WEIGHT = 1e-3
 POLISH_ITERATIONS = 3
 _EPS = 2.220446049250313e-16
+# A miss of this relative size is the rounding of integrating the phases (a duration
+# an ulp off its exact value, summed with the others): the pieces absorb it, and a
+# polish would cost more than the plan.
+ROUNDING_MISS = 64.0 * _EPS
 
 
 @njit(cache=True, error_model="numpy")
@@ -176,7 +180,7 @@ def polish(start, target, t, u, second_order, with_position, limits):
     acceleration past ``limits`` (v_min, v_max, a_min, a_max) further than the plan
     did, are not applied.
     """
-    if _end_miss(start, target, t, u, second_order, with_position) <= 4.0 * _EPS:
+    if _end_miss(start, target, t, u, second_order, with_position) <= ROUNDING_MISS:
         return  # most plans: no allocation
     ends = np.empty((PHASES, 3))
     rows = np.zeros((4, PHASES))
@@ -534,7 +538,6 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
 # A miss of the end state this many units in the last place of the duration, times
 # the next derivative, is the pieces' rounding in absolute time, not a lost target.
 _TIME_ULPS = 16.0
-_EPS = 2.220446049250313e-16
 
 
 @njit(cache=True, error_model="numpy")
