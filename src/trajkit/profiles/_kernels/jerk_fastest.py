@@ -52,7 +52,13 @@ from trajkit.profiles._kernels.layout import (
     T,
     V,
 )
-from trajkit.profiles._kernels.profile import EPS, check, copy_boundary, duration
+from trajkit.profiles._kernels.profile import (
+    EPS,
+    check,
+    copy_boundary,
+    duration,
+    set_phase_times,
+)
 from trajkit.profiles._kernels.roots import solve_quart_monic
 
 # Block times: minimum duration, then the two blocked intervals (left, right).
@@ -108,18 +114,6 @@ def _add(valid, count):
     if count < valid.shape[0]:
         copy_boundary(valid[count], valid[count - 1])
     return count
-
-
-@njit(cache=True, error_model="numpy")
-def _set_t(prof, t0, t1, t2, t3, t4, t5, t6):
-    """The seven phase durations of a candidate."""
-    prof[T] = t0
-    prof[T + 1] = t1
-    prof[T + 2] = t2
-    prof[T + 3] = t3
-    prof[T + 4] = t4
-    prof[T + 5] = t5
-    prof[T + 6] = t6
 
 
 @njit(cache=True, error_model="numpy")
@@ -265,7 +259,7 @@ def _time_acc0_acc1(valid, count, v_max, v_min, a_max, a_min, j_max, return_afte
     # UDDU: solution 2
     if h2 > h1 / a_max and h3 > -h1 / a_min:
         t4 = -a_min / j_max
-        _set_t(
+        set_phase_times(
             prof,
             (-a0 + a_max) / j_max,
             h2 - h1 / a_max,
@@ -284,7 +278,7 @@ def _time_acc0_acc1(valid, count, v_max, v_min, a_max, a_min, j_max, return_afte
     # UDDU: solution 1
     if h2 > -h1 / a_max and h3 > h1 / a_min:
         t4 = -a_min / j_max
-        _set_t(
+        set_phase_times(
             prof,
             (-a0 + a_max) / j_max,
             h2 + h1 / a_max,
@@ -396,7 +390,9 @@ def _time_all_none_acc0_acc1(valid, count, v_max, v_min, a_max, a_min, j_max, re
             t -= orig / deriv
         h0 = h2_none / (2 * j_max * t)
         prof = valid[count]
-        _set_t(prof, h0 + t / 2 - a0 / j_max, 0.0, t, 0.0, 0.0, 0.0, -h0 + t / 2 + af / j_max)
+        set_phase_times(
+            prof, h0 + t / 2 - a0 / j_max, 0.0, t, 0.0, 0.0, 0.0, -h0 + t / 2 + af / j_max
+        )
         if check(prof, UDDU, NONE, j_max, v_max, v_min, a_max, a_min, False):
             count = _add(valid, count)
             if return_after_found:
@@ -415,7 +411,7 @@ def _time_all_none_acc0_acc1(valid, count, v_max, v_min, a_max, a_min, j_max, re
             deriv = 2 * (h2_acc0 + h1 * (2 * h1 - 3 * a_max))
             t -= orig / deriv
         prof = valid[count]
-        _set_t(
+        set_phase_times(
             prof,
             (-a0 + a_max) / j_max,
             h3_acc0 - 2 * t + j_max / a_max * t * t,
@@ -460,7 +456,7 @@ def _time_all_none_acc0_acc1(valid, count, v_max, v_min, a_max, a_min, j_max, re
                     deriv = (a_min - a0 - h1) * (h2_acc1 + h1 * (4 * a0 - a_min + 2 * h1))
                     t -= orig / deriv
         prof = valid[count]
-        _set_t(
+        set_phase_times(
             prof,
             t,
             0.0,
@@ -505,7 +501,7 @@ def _time_acc1_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
     pd, v0, a0, vf, af, _v0_v0, vf_vf, a0_a0, a0_p3, _a0_p4, af_af, af_p3, af_p4 = _pre(prof)
     jj = j_max * j_max
     t4 = -a_min / j_max
-    _set_t(
+    set_phase_times(
         prof,
         0.0,
         0.0,
@@ -544,7 +540,7 @@ def _time_acc0_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
     jj = j_max * j_max
 
     # Two step
-    _set_t(
+    set_phase_times(
         prof,
         0.0,
         (af_af - a0_a0 + 2 * j_max * (vf - v0)) / (2 * a0 * j_max),
@@ -558,7 +554,7 @@ def _time_acc0_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
         return _add(valid, count)
 
     # Three step, pf not used
-    _set_t(
+    set_phase_times(
         prof,
         (-a0 + a_max) / j_max,
         (a0_a0 + af_af - 2 * a_max * a_max + 2 * j_max * (vf - v0)) / (2 * a_max * j_max),
@@ -591,7 +587,7 @@ def _time_acc0_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
         * abs(j_max)
         / j_max
     )
-    _set_t(
+    set_phase_times(
         prof,
         (4 * af_p3 + 2 * a0_p3 - 6 * a0 * af_af + 12 * jj * pd + 12 * (af - a0) * j_max * vf + h1)
         / (2 * j_max * h0),
@@ -608,7 +604,7 @@ def _time_acc0_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
 
     # Three step, t = (a_max - a_min) / j_max
     t = (a_max - a_min) / j_max
-    _set_t(
+    set_phase_times(
         prof,
         (-a0 + a_max) / j_max,
         (a0_a0 - af_af) / (2 * a_max * j_max) + (vf - v0 + j_max * t * t) / a_max - 2 * t,
@@ -634,7 +630,7 @@ def _time_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
     h1 = _sqrt(af_af / (2 * jj) + (v_max - vf) / j_max)
 
     # Four step
-    _set_t(
+    set_phase_times(
         prof,
         -a0 / j_max,
         0.0,
@@ -651,7 +647,7 @@ def _time_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
         return _add(valid, count)
 
     # Four step
-    _set_t(
+    set_phase_times(
         prof,
         0.0,
         0.0,
@@ -685,12 +681,12 @@ def _time_none_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
 
     # Two step
     h0 = _sqrt((a0_a0 + af_af) / 2 + j_max * (vf - v0)) * abs(j_max) / j_max
-    _set_t(prof, (h0 - a0) / j_max, 0.0, (h0 - af) / j_max, 0.0, 0.0, 0.0, 0.0)
+    set_phase_times(prof, (h0 - a0) / j_max, 0.0, (h0 - af) / j_max, 0.0, 0.0, 0.0, 0.0)
     if check(prof, UDDU, NONE, j_max, v_max, v_min, a_max, a_min, False):
         return _add(valid, count)
 
     # Single step
-    _set_t(prof, (af - a0) / j_max, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    set_phase_times(prof, (af - a0) / j_max, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     if check(prof, UDDU, NONE, j_max, v_max, v_min, a_max, a_min, False):
         return _add(valid, count)
     return count
@@ -706,7 +702,7 @@ def _time_all_single_step(prof, v_max, v_min, a_max, a_min):
     v0_v0 = v0 * v0
     if abs(af - a0) > EPS:
         return False
-    _set_t(prof, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    set_phase_times(prof, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     if abs(a0) > EPS:
         q = _sqrt(2 * a0 * pd + v0_v0)
         # Solution 1

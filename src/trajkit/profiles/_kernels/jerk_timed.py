@@ -48,10 +48,9 @@ from trajkit.profiles._kernels.layout import (
     VF,
     A,
     P,
-    T,
     V,
 )
-from trajkit.profiles._kernels.profile import EPS, check, check_with_timing
+from trajkit.profiles._kernels.profile import EPS, check, check_with_timing, set_phase_times
 from trajkit.profiles._kernels.roots import (
     TOLERANCE,
     poly_derivative_eval,
@@ -95,18 +94,6 @@ def _sq(x):
 
 
 @njit(cache=True, error_model="numpy")
-def _set_t(prof, t0, t1, t2, t3, t4, t5, t6):
-    """Write the seven phase durations of a candidate."""
-    prof[T] = t0
-    prof[T + 1] = t1
-    prof[T + 2] = t2
-    prof[T + 3] = t3
-    prof[T + 4] = t4
-    prof[T + 5] = t5
-    prof[T + 6] = t6
-
-
-@njit(cache=True, error_model="numpy")
 def _accept(prof, signs, limits, j_max, v_max, v_min, a_max, a_min, t0, t1, t2, t3, t4, t5, t6):
     """Try a candidate of jerk ``±j_max``.
 
@@ -114,7 +101,7 @@ def _accept(prof, signs, limits, j_max, v_max, v_min, a_max, a_min, t0, t1, t2, 
     itself, and ``|j| < |j| + 1e-12`` is false in floating point once
     ``|j| >= 2**14``, which would reject every such profile of a stiff axis.
     """
-    _set_t(prof, t0, t1, t2, t3, t4, t5, t6)
+    set_phase_times(prof, t0, t1, t2, t3, t4, t5, t6)
     return check(prof, signs, limits, j_max, v_max, v_min, a_max, a_min, False)
 
 
@@ -122,7 +109,7 @@ def _accept(prof, signs, limits, j_max, v_max, v_min, a_max, a_min, t0, t1, t2, 
 def _accept_jerk(prof, signs, limits, jf, j_max, v_max, v_min, a_max, a_min,
                  t0, t1, t2, t3, t4, t5, t6):  # fmt: skip
     """Try a candidate whose jerk ``jf`` is an unknown: it must keep ``|jf| <= j_max``."""
-    _set_t(prof, t0, t1, t2, t3, t4, t5, t6)
+    set_phase_times(prof, t0, t1, t2, t3, t4, t5, t6)
     return check_with_timing(prof, signs, limits, jf, v_max, v_min, a_max, a_min, j_max)
 
 

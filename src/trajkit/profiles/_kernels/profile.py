@@ -447,6 +447,18 @@ def first_time_at_position(prof, position, time_after):
 
 
 @njit(cache=True, error_model="numpy")
+def set_phase_times(prof, t0, t1, t2, t3, t4, t5, t6):
+    """Write the seven phase durations of a candidate."""
+    prof[T] = t0
+    prof[T + 1] = t1
+    prof[T + 2] = t2
+    prof[T + 3] = t3
+    prof[T + 4] = t4
+    prof[T + 5] = t5
+    prof[T + 6] = t6
+
+
+@njit(cache=True, error_model="numpy")
 def set_times(prof, t0, t1, t2, t6):
     """Write a candidate's phase durations 0, 1, 2 and 6; phases 3 to 5 stay empty."""
     prof[T] = t0

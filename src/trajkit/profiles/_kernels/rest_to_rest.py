@@ -57,7 +57,13 @@ from trajkit.profiles._kernels.layout import (
     T,
     V,
 )
-from trajkit.profiles._kernels.profile import check, check_second_order, round_up, set_boundary
+from trajkit.profiles._kernels.profile import (
+    check,
+    check_second_order,
+    round_up,
+    set_boundary,
+    set_phase_times,
+)
 
 _EPS = 2.220446049250313e-16
 
@@ -92,13 +98,7 @@ def _clear(prof, p0, pf):
 @njit(cache=True, error_model="numpy")
 def _times(prof, t0, t1, t2, t3):
     """Phases 0 to 3 as given and 4 to 6 their mirror image (a rest-to-rest profile)."""
-    prof[T] = t0
-    prof[T + 1] = t1
-    prof[T + 2] = t2
-    prof[T + 3] = t3
-    prof[T + 4] = t2
-    prof[T + 5] = t1
-    prof[T + 6] = t0
+    set_phase_times(prof, t0, t1, t2, t3, t2, t1, t0)
 
 
 @njit(cache=True, error_model="numpy")

@@ -8,8 +8,8 @@ durations) that no synchronized joint is blocked at. Each synchronized joint is
 then re-planned to take exactly that duration (step 2), or, under phase
 synchronization, follows the limiting joint's phase times scaled to its own move.
 
-:func:`plan` solves one problem; :func:`plan_batch` runs it over a batch of
-problems in parallel. Both write into caller-provided arrays and return status
+:func:`plan` solves one problem (the entry points of :mod:`.solve` run it over
+batches). It writes into caller-provided arrays and return status
 codes (numba raises no helpful errors); :mod:`trajkit.profiles.engine` turns
 those into exceptions that name the joint and the cause.
 """
@@ -17,7 +17,7 @@ those into exceptions that name the joint and the cause.
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from trajkit.profiles._kernels import (
     acceleration_limited,
@@ -1058,20 +1058,3 @@ def _at_rest(rec, second_order):
     """
     still = second_order or rec[A] == 0.0
     return still and rec[V] == 0.0 and rec[REC_VF] == 0.0 and rec[REC_AF] == 0.0
-
-
-@njit(cache=True, error_model="numpy", parallel=True)
-def plan_batch(m, control, sync, enabled, min_duration, dt, profiles, independent, out, status):
-    """:func:`plan` for ``B`` problems (every array with ``B`` first), in parallel."""
-    for i in prange(m.shape[0]):
-        status[i] = plan(
-            m[i],
-            control[i],
-            sync[i],
-            enabled[i],
-            min_duration[i],
-            dt,
-            profiles[i],
-            independent[i],
-            out[i],
-        )

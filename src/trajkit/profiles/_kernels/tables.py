@@ -69,16 +69,23 @@ def _control(u_k, a, second_order):
 
 
 @njit(cache=True, error_model="numpy")
+def _advance(p, v, a, tk, u_k, second_order):
+    """The state after a phase of ``tk`` s (> 0) with control ``u_k``, from ``(p, v, a)``."""
+    a, j = _control(u_k, a, second_order)
+    return (
+        p + tk * (v + tk * (a / 2.0 + tk * j / 6.0)),
+        v + tk * (a + tk * j / 2.0),
+        a + tk * j,
+    )
+
+
+@njit(cache=True, error_model="numpy")
 def _phase_ends(start, t, u, second_order, ends):
     """``ends[k]`` = (p, v, a) at the end of phase ``k``, integrated from ``start``."""
     p, v, a = start[0], start[1], start[2]
     for k in range(PHASES):
-        tk = t[k]
-        if tk > 0.0:
-            a, j = _control(u[k], a, second_order)
-            p = p + tk * (v + tk * (a / 2.0 + tk * j / 6.0))
-            v = v + tk * (a + tk * j / 2.0)
-            a = a + tk * j
+        if t[k] > 0.0:
+            p, v, a = _advance(p, v, a, t[k], u[k], second_order)
         ends[k, 0] = p
         ends[k, 1] = v
         ends[k, 2] = a
@@ -119,12 +126,8 @@ def _end_miss(start, target, t, u, second_order, with_position):
     sv = max(abs(v), abs(target[1]), 1e-300)
     sa = max(abs(a), abs(target[2]), 1e-300)
     for k in range(PHASES):
-        tk = t[k]
-        if tk > 0.0:
-            a, j = _control(u[k], a, second_order)
-            p = p + tk * (v + tk * (a / 2.0 + tk * j / 6.0))
-            v = v + tk * (a + tk * j / 2.0)
-            a = a + tk * j
+        if t[k] > 0.0:
+            p, v, a = _advance(p, v, a, t[k], u[k], second_order)
         sp = max(sp, abs(p))
         sv = max(sv, abs(v))
         sa = max(sa, abs(a))
