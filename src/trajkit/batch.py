@@ -280,20 +280,16 @@ def _matrix(
 
 
 def _assembler() -> Any:
-    """The kernel that fills and checks a batch, compiled for one signature only.
+    """The kernel that fills and checks a batch, for one signature only.
 
-    Its rows are read-only broadcast views, contiguous or not: one compiled copy
-    for strided views takes them all (a contiguous one converts), and no other is
-    compiled.
+    Its rows are read-only broadcast views, contiguous or not: the copy compiled
+    for strided views takes them all (a contiguous one converts).
     """
     global _assemble
     if _assemble is None:
         from trajkit.profiles._kernels.admissible import assemble_batch
 
-        engine.prepare("assemble_batch", assemble_batch, _assemble_signature)
-        if hasattr(assemble_batch, "disable_compile"):
-            assemble_batch.disable_compile()
-        _assemble = assemble_batch
+        _assemble = engine.single_signature("assemble_batch", assemble_batch, _assemble_signature)
     return _assemble
 
 

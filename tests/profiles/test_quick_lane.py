@@ -116,3 +116,11 @@ def test_the_short_road_returns_none_for_what_it_does_not_take():
         )
         is None
     )
+
+
+@pytest.mark.parametrize("planner", [tk.scurve, tk.trapezoidal])
+def test_an_unknown_grid_is_refused_on_either_road(planner):
+    # Without dt the grid changes nothing, but a misspelt one is still refused.
+    limits = LIMITS if planner is tk.scurve else LIMITS[:2]
+    with pytest.raises(InvalidInputError, match="grid"):
+        planner(Q0, QF, *limits, grid="switch")

@@ -34,6 +34,7 @@ __all__ = [
     "kernels",
     "phase_plan",
     "prepare",
+    "single_signature",
     "solve",
     "unpack",
     "warm",
@@ -123,6 +124,20 @@ def prepare(name: str, kernel: Any, signature: Any) -> None:
             timer.cancel()
             _warm.add(name)
             _compile_times[name] = time.perf_counter() - started
+
+
+def single_signature(name: str, kernel: Any, signature: Any) -> Any:
+    """``kernel`` compiled (or loaded) for ``signature(numba)`` only, compiling disabled.
+
+    For entry points whose arguments come straight from the caller: an argument
+    of another type (a read-only or strided array) then raises TypeError at the
+    call, for the caller to convert it, instead of compiling a second copy for
+    minutes. Returns the kernel.
+    """
+    prepare(name, kernel, signature)
+    if hasattr(kernel, "disable_compile"):  # not under NUMBA_DISABLE_JIT
+        kernel.disable_compile()
+    return kernel
 
 
 def warm() -> float:

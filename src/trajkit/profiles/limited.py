@@ -31,7 +31,15 @@ from trajkit.profiles import engine
 from trajkit.profiles._phases import PhasePlan
 from trajkit.trajectory import Trajectory
 
-__all__ = ["Problem", "quick_trajectory", "read_problem", "read_sync", "solve", "to_trajectory"]
+__all__ = [
+    "Problem",
+    "quick_trajectory",
+    "read_problem",
+    "read_sync",
+    "solve",
+    "to_trajectory",
+    "trajectory",
+]
 
 SYNC_NAMES = ("time", "phase", "time_if_necessary", None)
 GRIDS = ("switches", "duration")
@@ -278,19 +286,10 @@ def _read_fast(q0, qf, vmax, amax, jmax, v0, vf, a0, af, sync) -> Problem | None
 
 
 def _run_quick(*args: object) -> tuple:
-    """Call the kernels' ``quick``, compiled for contiguous float64 vectors only.
-
-    The first call compiles (or loads) that one signature, announced if it takes
-    long, and forbids any other: a vector of another layout (read-only, strided)
-    raises TypeError instead of compiling a second copy for minutes.
-    """
+    """Call the kernels' ``quick``, compiled for contiguous float64 vectors only."""
     global _quick
     if _quick is None:
-        kernel = engine.kernels().quick
-        engine.prepare("quick", kernel, _quick_signature)
-        if hasattr(kernel, "disable_compile"):
-            kernel.disable_compile()
-        _quick = kernel
+        _quick = engine.single_signature("quick", engine.kernels().quick, _quick_signature)
     return _quick(*args)
 
 
@@ -589,6 +588,43 @@ def to_trajectory(
     breakpoints, coefficients, end = result.pieces  # type: ignore[misc]
     build = lambda: _info(planner, p, result, dt, info)  # noqa: E731
     return Trajectory._trusted(breakpoints, coefficients, LazyInfo(build), end)
+
+
+def trajectory(
+    planner: str,
+    q0: ArrayLike,
+    qf: ArrayLike,
+    vmax: LimitSpec,
+    amax: LimitSpec,
+    jmax: ArrayLike,
+    *,
+    v0: ArrayLike,
+    vf: ArrayLike,
+    a0: ArrayLike,
+    af: ArrayLike,
+    sync: object,
+    duration: float | None,
+    min_duration: float | None,
+    dt: float | None,
+    grid: str,
+    info: Callable[[dict[str, Any], PhasePlan], dict[str, Any]] | None = None,
+) -> Trajectory:
+    """One problem validated, planned and built: the limit-driven planners' front end.
+
+    With default options (no ``duration``, ``min_duration`` or ``dt``) plainly
+    numeric input takes the short road (:func:`quick_trajectory`); everything
+    else, and whatever the short road hands back, the full one (:func:`read_problem`,
+    :func:`solve`, :func:`to_trajectory`). ``info`` adapts the planner's ``info``.
+    """
+    if duration is None and min_duration is None and dt is None and grid in GRIDS:
+        quick = quick_trajectory(
+            planner, q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync, info=info
+        )
+        if quick is not None:
+            return quick
+    problem = read_problem(planner, q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync)
+    result = solve(planner, problem, duration=duration, min_duration=min_duration, dt=dt, grid=grid)
+    return to_trajectory(planner, problem, result, dt=dt, info=info)
 
 
 def _info(

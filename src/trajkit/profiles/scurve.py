@@ -100,16 +100,7 @@ def scurve(
         A target beyond the limits, a duration below the minimum or one a joint
         cannot take exactly.
     """
-    if duration is None and min_duration is None and dt is None and grid == "switches":
-        quick = limited.quick_trajectory(
-            "scurve", q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync
-        )
-        if quick is not None:
-            return quick
-    problem = limited.read_problem(
-        "scurve", q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync
-    )
-    result = limited.solve(
-        "scurve", problem, duration=duration, min_duration=min_duration, dt=dt, grid=grid
-    )
-    return limited.to_trajectory("scurve", problem, result, dt=dt)
+    return limited.trajectory(
+        "scurve", q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync,
+        duration=duration, min_duration=min_duration, dt=dt, grid=grid,
+    )  # fmt: skip

@@ -122,31 +122,15 @@ def trapezoidal(
         raise InvalidInputError(
             "trapezoidal needs vmax and amax (or blend_ratio / blend_time with a duration)"
         )
-    if duration is None and min_duration is None and dt is None and allow_overshoot:
-        quick = limited.quick_trajectory(
-            "trapezoidal",
-            q0,
-            qf,
-            vmax,
-            amax,
-            np.inf,
-            v0=v0,
-            vf=vf,
-            a0=0.0,
-            af=0.0,
-            sync=sync,
-            info=trapezoid_info,
-        )
-        if quick is not None:
-            return quick
-    problem = limited.read_problem(
-        "trapezoidal", q0, qf, vmax, amax, np.inf, v0=v0, vf=vf, a0=0.0, af=0.0, sync=sync
-    )
-    result = limited.solve(
-        "trapezoidal", problem, duration=duration, min_duration=min_duration, dt=dt, grid=grid
-    )
-    trajectory = limited.to_trajectory("trapezoidal", problem, result, dt=dt, info=trapezoid_info)
+    trajectory = limited.trajectory(
+        "trapezoidal", q0, qf, vmax, amax, np.inf, v0=v0, vf=vf, a0=0.0, af=0.0, sync=sync,
+        duration=duration, min_duration=min_duration, dt=dt, grid=grid, info=trapezoid_info,
+    )  # fmt: skip
     if not allow_overshoot:
+        # The strict check reads the boundary vectors back (validated already).
+        problem = limited.read_problem(
+            "trapezoidal", q0, qf, vmax, amax, np.inf, v0=v0, vf=vf, a0=0.0, af=0.0, sync=sync
+        )
         _refuse_overshoot(trajectory, problem)
     return trajectory
 
