@@ -34,9 +34,10 @@ from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import engine, limited
 from trajkit.profiles._phases import PhasePlan
+from trajkit.profiles.velocity import velocity_room
 from trajkit.trajectory import Trajectory
 
-__all__ = ["BatchTrajectory", "scurve", "trapezoidal"]
+__all__ = ["BatchTrajectory", "scurve", "trapezoidal", "velocity_change"]
 
 
 class BatchTrajectory:
@@ -334,7 +335,13 @@ def _plan(
     min_duration: ArrayLike | None,
     dt: float | None,
     grid: str,
+    velocity_only: bool = False,
 ) -> tuple[engine.EngineResult, tuple, float | None]:
+    """Plan the batch ``m`` (its rows as the engine reads them).
+
+    ``velocity_only`` plans to the target velocities; row qf of ``m`` then takes
+    each joint's end position.
+    """
     count, _, ndof = m.shape
     codes, names = _sync_codes(sync, ndof, count)
     floor = None
@@ -346,7 +353,7 @@ def _plan(
             raise InvalidInputError("min_duration must be > 0 s")
     step = None if dt is None else positive_scalar("dt", dt, unit="s")
     grid = choice("grid", grid, limited.GRIDS)
-    control = np.zeros((count, ndof), np.int64)
+    control = np.full((count, ndof), int(velocity_only), np.int64)  # 0 position, 1 velocity
     result = engine.solve(
         planner, m, control=control, sync=codes, min_duration=floor, dt=step, grid=grid
     )
@@ -450,6 +457,65 @@ def scurve(
     values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": a0, "af": af}
     m = _matrix("scurve", values, vmax, amax, jmax)
     result, names, step = _plan("scurve", m, sync, min_duration, dt, grid)
+    return BatchTrajectory("scurve", m, result, _jerk_info("scurve", m, result, names, step))
+
+
+def velocity_change(
+    v0: ArrayLike,
+    vf: ArrayLike,
+    amax: LimitSpec,
+    jmax: ArrayLike,
+    *,
+    q0: ArrayLike = 0.0,
+    a0: ArrayLike = 0.0,
+    af: ArrayLike = 0.0,
+    sync: object = "time",
+    min_duration: ArrayLike | None = None,
+    dt: float | None = None,
+    grid: str = "switches",
+) -> BatchTrajectory:
+    """Time-optimal changes of velocity for ``B`` problems at once, no position target.
+
+    Same meaning as :func:`trajkit.velocity_change`, with every argument of shape
+    ``(B, ndof)`` or broadcastable to it (limits per joint, per problem, or
+    ``(lower, upper)`` tuples of such arrays); ``min_duration`` one number or one
+    per problem. The velocity law puts only the duration on a period grid: with
+    ``dt``, pass ``grid="duration"``.
+
+    Returns
+    -------
+    BatchTrajectory
+        ``durations`` (B,); ``info`` as :func:`scurve`'s, plus ``end_position``
+        (B, ndof), where each joint's motion ends (rad).
+    """
+    rows = [_problem_array(n, x, u) for n, x, u in (
+        ("v0", v0, "rad/s"), ("vf", vf, "rad/s"), ("a0", a0, "rad/s^2"), ("af", af, "rad/s^2"),
+    )]  # fmt: skip
+    jerk = np.array(as_float_array("jmax", jmax), dtype=float)
+    try:
+        start, end, a_start, a_end, j_max = np.broadcast_arrays(*rows, jerk)
+    except ValueError:
+        raise InvalidInputError(
+            "v0, vf, a0, af and jmax must broadcast to one (B, ndof) shape, got "
+            + ", ".join(f"{n} {r.shape}" for n, r in zip(("v0", "vf", "a0", "af", "jmax"),
+                                                          (*rows, jerk), strict=True))
+        ) from None  # fmt: skip
+    wide = velocity_room("velocity_change", start, end, a_start, a_end, j_max)
+    values = {"q0": q0, "qf": q0, "v0": v0, "vf": vf, "a0": a0, "af": af}
+    m = _matrix("velocity_change", values, (-wide, wide), amax, jmax)
+    result, names, step = _plan(
+        "velocity_change", m, sync, min_duration, dt, grid, velocity_only=True
+    )
+    jerk_info = _jerk_info("velocity_change", m, result, names, step)
+    return BatchTrajectory(
+        "velocity_change", m, result, lambda: jerk_info() | {"end_position": m[:, 1].copy()}
+    )
+
+
+def _jerk_info(
+    planner: str, m: FloatArray, result: engine.EngineResult, names: tuple, step: float | None
+) -> Callable[[], dict[str, Any]]:
+    """The ``info`` builder of a batch planned by the jerk-limited law."""
 
     def info() -> dict[str, Any]:
         from trajkit.profiles._kernels.tables import velocities_at_phases
@@ -465,10 +531,10 @@ def scurve(
             result.second_order,
             v,
         )
-        return _common_info("scurve", result, names, step) | {
+        return _common_info(planner, result, names, step) | {
             "phase_times": result.t[..., 2:],
             "jerks": np.where(result.second_order[..., np.newaxis], 0.0, result.u[..., 2:]),
             "peak_velocity": v[..., 2 + 3],
         }
 
-    return BatchTrajectory("scurve", m, result, info)
+    return info

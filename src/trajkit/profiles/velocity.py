@@ -11,13 +11,13 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from trajkit._validation import count_dof, joint_vector
+from trajkit._validation import FloatArray, count_dof, joint_vector
 from trajkit.errors import InfeasibleError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import limited
 from trajkit.trajectory import Trajectory
 
-__all__ = ["velocity_change"]
+__all__ = ["velocity_change", "velocity_room"]
 
 
 def velocity_change(
@@ -93,19 +93,8 @@ def velocity_change(
     a_start = joint_vector("a0", a0, ndof, unit="rad/s^2")
     j_max = limited.read_jerk(jmax, ndof)
     a_min, a_max = limited.read_bounds("amax", amax, ndof, "rad/s^2")
-    # The law has no velocity limit; the problem matrix still carries one (finite,
-    # as the engine's checks require), wide enough never to matter.
     a_end = joint_vector("af", af, ndof, unit="rad/s^2")
-    with np.errstate(all="ignore"):
-        push = np.where(np.isinf(j_max), np.inf, j_max)
-        reach = np.abs(start) + np.abs(end) + (a_start**2 + a_end**2) / push
-    wide = 2.0 * reach + 1.0
-    if not np.all(np.isfinite(wide)):
-        joint = int(np.flatnonzero(~np.isfinite(wide))[0])
-        raise InfeasibleError(
-            f"velocity_change: the speeds of joint {joint + 1} are beyond float64 "
-            f"(v0={start[joint]:.6g}, vf={end[joint]:.6g} rad/s)"
-        )
+    wide = velocity_room("velocity_change", start, end, a_start, a_end, j_max)
     problem = limited.read_problem(
         "velocity_change", q0, q0, (-wide, wide), (a_min, a_max), j_max,
         v0=start, vf=end, a0=a_start, af=a_end, sync=sync,
@@ -115,3 +104,39 @@ def velocity_change(
         grid=grid, velocity_only=True,
     )  # fmt: skip
     return limited.to_trajectory("velocity_change", problem, result, dt=dt)
+
+
+def velocity_room(
+    planner: str,
+    v0: FloatArray,
+    vf: FloatArray,
+    a0: FloatArray,
+    af: FloatArray,
+    j_max: FloatArray,
+) -> FloatArray:
+    """A velocity bound (rad/s) that the velocity law never reaches, per joint.
+
+    The law has no velocity limit; the problem matrix still carries one (finite,
+    as the engine's checks require), so it gets one beyond every speed the
+    motion can take: the boundary speeds plus what the boundary accelerations add
+    while the jerk takes them away. Arrays of one shape: ``(ndof,)`` for one
+    problem, ``(B, ndof)`` for a batch.
+
+    Raises
+    ------
+    InfeasibleError
+        Speeds beyond float64, naming the joint (and the problem, in a batch).
+    """
+    with np.errstate(all="ignore"):
+        # A jerk limit <= 0 or NaN is refused later, by name; it adds no speed here.
+        push = np.where(j_max > 0.0, j_max, np.inf)
+        reach = np.abs(v0) + np.abs(vf) + (a0**2 + af**2) / push
+        wide = 2.0 * reach + 1.0
+    if not np.all(np.isfinite(wide)):
+        where = tuple(int(k) for k in np.argwhere(~np.isfinite(wide))[0])
+        problem = f"problem {where[0]}, " if len(where) == 2 else ""
+        raise InfeasibleError(
+            f"{planner}: the speeds of {problem}joint {where[-1] + 1} are beyond float64 "
+            f"(v0={float(v0[where]):.6g}, vf={float(vf[where]):.6g} rad/s)"
+        )
+    return wide

@@ -170,7 +170,11 @@ CHUNK = 64
 
 @njit(cache=True, error_model="numpy", parallel=True)
 def batch(m, control, sync, enabled, min_duration, dt, switches, t, u, own, out, status):
-    """Plan ``B`` problems in parallel into phase tables ``t``, ``u`` (B, ndof, 9)."""
+    """Plan ``B`` problems in parallel into phase tables ``t``, ``u`` (B, ndof, 9).
+
+    A joint under the velocity interface (``control`` 1) has its row qf of ``m``
+    overwritten with the position its motion ends at.
+    """
     count = m.shape[0]
     ndof = m.shape[2]
     for c in prange((count + CHUNK - 1) // CHUNK):
@@ -203,6 +207,10 @@ def batch(m, control, sync, enabled, min_duration, dt, switches, t, u, own, out,
                         control[i, d] == POSITION,
                         m[i, V_MIN : A_MAX + 1, d],
                     )
+                if control[i, d] != POSITION:
+                    # No position target: the row qf takes where the phases end, so that
+                    # the batch evaluates (and `batch[i]` builds) as one problem does.
+                    m[i, 1, d] = tables.end_position(m[i, 0:5:2, d], t[i, d], u[i, d], second)
 
 
 @njit(cache=True, error_model="numpy")
