@@ -88,10 +88,6 @@ class BatchTrajectory:
         m = self._matrix
         return engine.phase_plan(self._result, m[:, 0], m[:, 2], m[:, 4])
 
-    def _boundaries(self) -> tuple[FloatArray, FloatArray]:
-        m = self._matrix
-        return m[:, [0, 2, 4]], m[:, [1, 3, 5]]  # start and target, (B, 3, ndof)
-
     def __len__(self) -> int:
         return int(self.durations.shape[0])
 
@@ -118,13 +114,11 @@ class BatchTrajectory:
         scalar = times.ndim == 0
         grid = np.ascontiguousarray(np.atleast_1d(times), dtype=np.float64)
         out = np.empty((len(self), grid.size, self.ndof))
-        start, target = self._boundaries()
         r = self._result
         engine.run(
             "evaluate_batch",
             evaluate_batch,
-            np.ascontiguousarray(start),
-            np.ascontiguousarray(target),
+            self._matrix,
             r.t,
             r.u,
             r.second_order,
@@ -160,7 +154,7 @@ class BatchTrajectory:
         if not -len(self) <= i < len(self):
             raise IndexError(f"problem {i} out of range for {len(self)} problems")
         i = int(i) % len(self)
-        start, target = self._boundaries()
+        m = self._matrix[i]
         r = self._result
         ndof = self.ndof
         breakpoints = np.empty(PHASES * ndof + 2)
@@ -169,8 +163,8 @@ class BatchTrajectory:
         count = engine.run(
             "pieces",
             pieces,
-            np.ascontiguousarray(start[i]),
-            np.ascontiguousarray(target[i]),
+            m[[0, 2, 4]],  # start: q0, v0, a0 (3, ndof)
+            m[[1, 3, 5]],  # target: qf, vf, af
             r.t[i],
             r.u[i],
             r.second_order[i],

@@ -93,10 +93,15 @@ def _phase_ends(start, t, u, second_order, ends):
 
 @njit(cache=True, error_model="numpy")
 def end_position(start, t, u, second_order):
-    """Where the nine phases from ``start`` (p, v, a) end (a motion with no position target)."""
-    ends = np.empty((PHASES, 3))
-    _phase_ends(start, t, u, second_order, ends)
-    return ends[PHASES - 1, 0]
+    """Where the nine phases from ``start`` (p, v, a) end (a motion with no position target).
+
+    The last row :func:`_phase_ends` would write, integrated in the same order.
+    """
+    p, v, a = start[0], start[1], start[2]
+    for k in range(PHASES):
+        if t[k] > 0.0:
+            p, v, a = _advance(p, v, a, t[k], u[k], second_order)
+    return p
 
 
 @njit(cache=True, error_model="numpy")
@@ -561,28 +566,37 @@ def _sizes(breakpoints, coefficients, m, d):
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def evaluate_batch(start, target, t, u, second, durations, times, order, out):
+def evaluate_batch(m, t, u, second, durations, times, order, out):
     """Derivative ``order`` of every problem at ``times``: ``out`` (B, m, ndof).
 
-    Each problem is turned into its pieces by :func:`pieces` and evaluated as its
-    :class:`trajkit.Trajectory` would be: times clamped to ``[0, duration]``, the
-    exact end state from the end on where the pieces reach it.
+    ``m`` is the batch's problem matrix (B, 11, ndof), its rows q0, v0, a0 the
+    start and qf, vf, af the target of each problem (read in place: copies of
+    them would be a third of a large batch's memory). Each problem is turned into
+    its pieces by :func:`pieces` and evaluated as its :class:`trajkit.Trajectory`
+    would be: times clamped to ``[0, duration]``, the exact end state from the end
+    on where the pieces reach it.
     """
-    count = start.shape[0]
-    ndof = start.shape[2]
+    count = m.shape[0]
+    ndof = m.shape[2]
     size = PHASES * ndof + 2
     for i in prange(count):
         breakpoints = np.empty(size)
         coefficients = np.empty((4, size - 1, ndof))
         end = np.empty((3, ndof))
+        start = np.empty((3, ndof))
+        target = np.empty((3, ndof))
+        for k in range(3):
+            for d in range(ndof):
+                start[k, d] = m[i, 2 * k, d]
+                target[k, d] = m[i, 2 * k + 1, d]
         duration = durations[i]
-        m = pieces(
-            start[i], target[i], t[i], u[i], second[i], duration, breakpoints, coefficients, end
+        n_pieces = pieces(
+            start, target, t[i], u[i], second[i], duration, breakpoints, coefficients, end
         )
         for k in range(times.shape[0]):
             clock = min(max(times[k], 0.0), duration)
             piece = 0
-            while piece < m - 1 and breakpoints[piece + 1] <= clock:
+            while piece < n_pieces - 1 and breakpoints[piece + 1] <= clock:
                 piece += 1
             x = clock - breakpoints[piece]
             for d in range(ndof):
