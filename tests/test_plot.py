@@ -1,9 +1,7 @@
-"""Plots: panels, labels with units, limits drawn, files saved; lazy matplotlib import."""
+"""Plots: panels, labels with units, limits drawn, files saved (the lazy matplotlib import:
+test_imports)."""
 
 from __future__ import annotations
-
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -14,13 +12,6 @@ import trajkit as tk
 @pytest.fixture
 def move() -> tk.Trajectory:
     return tk.cubic(np.radians([0, 0]), np.radians([67, -45]), vmax=np.radians([9, 11]))
-
-
-def test_import_trajkit_does_not_import_matplotlib():
-    code = "import sys, trajkit; print('matplotlib' in sys.modules)"
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == "False"
 
 
 def test_profiles_panels_labels_and_limits(move):

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
 from trajkit._validation import finite_array
 from trajkit.errors import InvalidInputError
@@ -51,6 +50,8 @@ def homogeneous(
 
 def rpy_matrix(rpy: ArrayLike) -> FloatArray:
     """Rotation from roll, pitch, yaw (rad) about fixed x, y, z axes, as URDF defines it."""
+    from scipy.spatial.transform import Rotation  # slow to import: on first use
+
     return Rotation.from_euler("xyz", np.asarray(rpy, dtype=np.float64)).as_matrix()
 
 
@@ -80,6 +81,8 @@ def rotation_error(target: FloatArray, actual: FloatArray) -> FloatArray:
     # quaternion route is exact there.
     flipped = cosine < -0.9
     if flipped.any():
+        from scipy.spatial.transform import Rotation
+
         out[flipped] = Rotation.from_matrix(relative[flipped]).as_rotvec()
     return out.reshape((*np.shape(target)[:-2], 3))
 

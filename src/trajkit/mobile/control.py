@@ -13,7 +13,6 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from trajkit._validation import FloatArray, positive_scalar
 from trajkit.errors import InvalidInputError
@@ -304,6 +303,8 @@ def nearest_path_distance(path: FloatArray, points: FloatArray) -> FloatArray:
     path = path[moves]
     if len(path) == 1:
         return np.linalg.norm(points - path[0], axis=1)
+    from scipy.spatial import cKDTree  # slow to import: on first use
+
     tree = cKDTree(path)
     _, index = tree.query(points)
     best = np.linalg.norm(points - path[index], axis=1)

@@ -22,7 +22,6 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import minimize_scalar
 
 from trajkit._validation import FloatArray, finite_array, increasing_times, positive_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
@@ -308,6 +307,8 @@ class FlatSegment(Segment):
         return np.array([self._table[0][-1], self._table[1][-1], self._theta_grid[-1]])
 
     def extrema(self, order: int, cv: float, cw: float) -> tuple[float, float, float, float]:
+        from scipy.optimize import minimize_scalar  # slow to import: on first use
+
         index = (3, 4) if order == 1 else (5, 6)
 
         def value(tau: FloatArray) -> FloatArray:
@@ -431,6 +432,8 @@ class _StopSeries:
 
 def _stops(output: FlatOutput) -> tuple[list[float], float]:
     """Interior times where the output's speed vanishes, and its peak speed (m/s)."""
+    from scipy.optimize import minimize_scalar  # slow to import: on first use
+
     grid = np.union1d(np.linspace(0.0, output.duration, 4 * _GRID), output.breakpoints)
     with np.errstate(over="ignore", invalid="ignore"):
         speed = np.linalg.norm(output.evaluate(grid, 1), axis=1)

@@ -16,7 +16,6 @@ blends last as long as its own velocity change needs.
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, finite_array, flag, positive_joint_vector
@@ -413,6 +412,8 @@ def _pseudo_waypoints(
     ndof = q.shape[1]
     pseudo = q.copy()
     tolerance = 1e-12 * float(np.max(np.abs(q)))
+    from scipy.linalg import solve_banded  # scipy is slow to import: only when blending through
+
     converged = True
     for joint in range(ndof):
         a = a_limit[joint : joint + 1]
@@ -428,7 +429,7 @@ def _pseudo_waypoints(
             if worst <= tolerance:
                 break
             try:
-                step = scipy.linalg.solve_banded((1, 1), banded, -miss)
+                step = solve_banded((1, 1), banded, -miss)
             except (np.linalg.LinAlgError, ValueError):
                 break  # singular: no Newton step; the caller lengthens the durations
             if not np.all(np.isfinite(step)):
