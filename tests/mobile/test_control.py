@@ -17,14 +17,14 @@ turned left / to the right and turned right):
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+import support
+from support import CLOSED_FORM, ROUNDING
 from trajkit import InvalidInputError
 from trajkit.mobile import (
     DiffDrive,
@@ -40,10 +40,6 @@ from trajkit.mobile import (
     simulate,
 )
 from trajkit.mobile.control import controller_named, nearest_path_distance
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import CLOSED_FORM, ROUNDING
 
 # Tolerances and criteria -----------------------------------------------------------
 SATURATED = 1e-12  # relative: a saturated command against its bound

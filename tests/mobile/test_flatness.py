@@ -9,15 +9,15 @@ v = |ṗ| and dv/dt its finite difference.
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import support
 import trajkit as tk
+from support import CLOSED_FORM, FINITE_DIFFERENCE, LIMIT_TOUCH, ROUNDING
 from trajkit import InfeasibleError, InvalidInputError
 from trajkit.mobile import (
     DiffDrive,
@@ -31,10 +31,6 @@ from trajkit.mobile import (
     spline_output,
 )
 from trajkit.mobile.limits import QUANTITIES
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import CLOSED_FORM, FINITE_DIFFERENCE, LIMIT_TOUCH, ROUNDING
 
 # Tolerances and steps --------------------------------------------------------------
 FD_FIRST = 1e-4  # step of five-point first differences, a fraction of the output's duration

@@ -9,8 +9,6 @@ Simpson's rule and the Fresnel integrals of a clothoid.
 from __future__ import annotations
 
 import dataclasses
-import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
@@ -18,6 +16,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.special import fresnel
 
+import support
+from support import CLOSED_FORM, EPS, ROUNDING, WORLD_ROUNDING
 from trajkit import InvalidInputError
 from trajkit.mobile import (
     DiffDrive,
@@ -30,10 +30,6 @@ from trajkit.mobile import (
     wrap_angle,
 )
 from trajkit.mobile.models import pose_array
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import CLOSED_FORM, EPS, ROUNDING, WORLD_ROUNDING
 
 # Tolerances ---------------------------------------------------------------------
 ROUND_TRIP = 1e-12  # relative: wheel speeds <-> twist, both ways

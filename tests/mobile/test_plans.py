@@ -9,15 +9,15 @@ time-optimal trapezoid and S-curve phases.
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+import support
 import trajkit as tk
+from support import CLOSED_FORM, limits_positive
 from trajkit import InvalidInputError
 from trajkit.mobile import (
     DiffDrive,
@@ -31,10 +31,6 @@ from trajkit.mobile import (
 )
 from trajkit.mobile.models import resolve_model
 from trajkit.mobile.plans import phase_law
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import CLOSED_FORM, limits_positive
 
 # Tolerances ---------------------------------------------------------------------
 SEED_ARC = 1e-12  # absolute (m, rad): seed 000's 15 s arc against its closed form

@@ -8,14 +8,14 @@ start pose, stays on the curve to TRACKING (measured 4e-14 m over the period).
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import support
+from support import EPS, ROUNDING, TRACKING, WORLD_ROUNDING
 from trajkit import InvalidInputError
 from trajkit.mobile import (
     Arc,
@@ -34,10 +34,6 @@ from trajkit.mobile import (
     rotate_translate_rotate,
     simulate,
 )
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import EPS, ROUNDING, TRACKING, WORLD_ROUNDING
 
 # Tolerances ---------------------------------------------------------------------
 HELD_ARC = 1e-12  # relative: held constant commands compose exact arcs

@@ -11,14 +11,12 @@ curve sampled on its own), and faster than the curve scaled uniformly to its lim
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path as FilePath
-
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
 import trajkit as tk
+from support import LIMIT_TOUCH
 from trajkit import InvalidInputError
 from trajkit.mobile import (
     DiffDrive,
@@ -31,9 +29,6 @@ from trajkit.mobile import (
     spline_output,
     time_optimal,
 )
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-from support import LIMIT_TOUCH
 
 # Tolerances ---------------------------------------------------------------------
 ON_CURVE = 1e-6  # m: a sampled position from the densely sampled curve

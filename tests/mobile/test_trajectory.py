@@ -7,15 +7,14 @@ reference for the exact checks.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path as FilePath
-
 import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+import support
 import trajkit as tk
+from support import CLOSED_FORM, ROUNDING, WORLD_ROUNDING
 from trajkit import InvalidInputError
 from trajkit.mobile import (
     Arc,
@@ -32,10 +31,6 @@ from trajkit.mobile import (
     rotate_translate_rotate,
 )
 from trajkit.mobile.trajectory import command_times
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import CLOSED_FORM, ROUNDING, WORLD_ROUNDING
 
 # The reference plan --------------------------------------------------------------
 START = np.array([1.0, -2.0, 0.25])

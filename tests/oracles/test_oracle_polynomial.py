@@ -8,17 +8,10 @@ errors by that over T**2.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import trajkit as tk
-
-# pytest puts this file's own folder (tests/oracles) on sys.path, not tests/, where the
-# shared helpers live; add it explicitly so `import support` works from the subfolder.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from support import CLOSED_FORM
 
 rtb = pytest.importorskip(

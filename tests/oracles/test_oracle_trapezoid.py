@@ -17,17 +17,10 @@ most SKIP_FRACTION of a sweep.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import trajkit as tk
-
-# pytest puts this file's own folder (tests/oracles) on sys.path, not tests/, where the
-# shared helpers live; add it explicitly so `import support` works from the subfolder.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from support import CLOSED_FORM
 
 ruckig = pytest.importorskip(

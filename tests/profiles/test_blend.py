@@ -8,9 +8,8 @@ blends keep |jerk| <= jmax and a continuous acceleration.
 
 from __future__ import annotations
 
-import sys
+import re
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,12 +17,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-import trajkit as tk
-
-# pytest puts this file's own folder (tests/profiles) on sys.path, not tests/, where the
-# shared helpers live; add it explicitly so `import support` works from the subfolder.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import support
+import trajkit as tk
 from support import CLOSED_FORM, ROUNDING
 
 THROUGH = CLOSED_FORM  # relative to max(1, |waypoint|): through=True hits every waypoint
@@ -432,20 +427,40 @@ def test_property_any_waypoints_reach_every_target(problem):
 
 
 @given(problem=blend_problems())
-def test_property_jerk_limited_schedules_suit_parabolic_blends(problem):
-    # A parabolic velocity change is never slower than a jerk-limited one, so the
-    # jerk-limited planner's segment durations always work for parabolic blends. (The
-    # default schedules are NOT ordered: each is a fixed point, not an optimum; random
-    # problems include jerk-limited schedules up to 21 % shorter than parabolic ones.)
+def test_property_jerk_limited_schedules_given_to_parabolic_blends(problem):
+    # A jerk-limited schedule is usually one parabolic blends can keep (a parabolic
+    # change of velocity is never slower than a jerk-limited one), but not always:
+    # the parabolic end blends are shorter, so the end segments' velocities differ
+    # and interior waypoints the jerk-limited plan cruised through need blends (see
+    # the test below). Given such a schedule, the parabolic planner keeps it exactly
+    # or refuses it by naming the segment; it never returns a plan that breaks it.
     waypoints, vmax, amax, jmax = problem
     if jmax is None:
         jmax = np.full(waypoints.shape[1], 10.0)
     smooth = tk.blended(waypoints, vmax, amax, jmax=jmax)
     durations = np.array(smooth.info["durations"])
-    parabolic = tk.blended(waypoints, vmax, amax, durations=durations)
+    try:
+        parabolic = tk.blended(waypoints, vmax, amax, durations=durations)
+    except tk.InfeasibleError as error:
+        assert re.fullmatch(r"durations\[\d+\] = \S+ s is too short for the limits.*", str(error))
+        return
     assert parabolic.duration == pytest.approx(smooth.duration, rel=ROUNDING)
     assert parabolic.check(limits(vmax, amax)).ok
     assert_starts_and_ends_at_rest(parabolic, waypoints)
+
+
+def test_a_jerk_limited_schedule_parabolic_blends_cannot_keep_is_refused_by_segment():
+    # The jerk-limited plan cruises at vmax through waypoints 1 and 2 (its segment 1
+    # lasts exactly 0.0625 m / 1 m/s); its 1.1 s start blend leaves segment 0 at
+    # -1 m/s, where a parabolic 1 s start blend would leave it at -0.949 m/s, so the
+    # parabolic plan must blend at waypoints 1 and 2, inside segment 1.
+    waypoints = np.array([[1.0], [0.0625], [0.0], [-1.0]])
+    smooth = tk.blended(waypoints, 1.0, 1.0, jmax=10.0)
+    assert smooth.info["durations"] == pytest.approx((1.4875, 0.0625, 1.55), rel=CLOSED_FORM)
+    assert smooth.check(tk.Limits(velocity=1.0, acceleration=1.0, jerk=10.0)).ok
+    with pytest.raises(tk.InfeasibleError, match=r"durations\[1\] = 0.0625 s is too short.*"
+                       r"blends at waypoints 1 and 2 need"):  # fmt: skip
+        tk.blended(waypoints, 1.0, 1.0, durations=smooth.info["durations"])
 
 
 @given(problem=blend_problems(), stretch=st.floats(1.0, 3.0))

@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import sys
 from fractions import Fraction
 from math import factorial, sqrt
-from pathlib import Path
 
 import numpy as np
 import numpy.polynomial.polynomial as npoly
@@ -13,12 +11,8 @@ import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
-import trajkit as tk
-
-# pytest puts this file's own folder (tests/profiles) on sys.path, not tests/, where the
-# shared helpers live; add it explicitly so `import support` works from the subfolder.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import support
+import trajkit as tk
 from support import CLOSED_FORM, COEFFICIENT
 
 # ----------------------------------------------------------------------------- planners

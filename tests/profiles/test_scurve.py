@@ -2,16 +2,10 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-# Test files in subfolders do not see tests/ on sys.path by themselves.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import support
 import trajkit as tk
@@ -291,3 +285,22 @@ def test_the_pieces_themselves_end_on_the_target_beyond_the_laws_precision():
     np.testing.assert_allclose(pieces.velocity(T), vf, rtol=0, atol=1e-12 * 15.6)
     np.testing.assert_allclose(pieces.acceleration(T), af, rtol=0, atol=1e-12 * 13.5)
     assert tr.check(tk.Limits(velocity=vmax, acceleration=amax, jerk=jmax)).ok
+
+
+@pytest.mark.parametrize("sync", ["time", "phase", "time_if_necessary", None])
+@pytest.mark.parametrize("jmax", [0.5, 10.0, 1e6, np.inf])
+@pytest.mark.parametrize(
+    "qf", [[5e-324], [5e-324, 1.0], [-3e-320, 2.0], [1e-310, 1.0], [2e-308, -1.0]]
+)
+def test_subnormal_distances_are_planned_and_reached(sync, jmax, qf) -> None:
+    # (5e-324 / 10) ** (1/3) underflowed to 0 in the choice of units (and tau**3 of a
+    # tiny unit), so a 5e-324 rad move with jmax=10 had "no fastest profile".
+    tr = tk.scurve([0.0] * len(qf), qf, 1.0, 1.0, jmax, sync=sync)
+    np.testing.assert_array_equal(tr.end_state.position, qf)
+    np.testing.assert_array_equal(tr.end_state.velocity, 0.0)
+    jerk = None if np.isinf(jmax) else jmax
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0, jerk=jerk)).ok
+    if len(qf) == 1:  # alone: the closed-form duration 4 (d / 2j)^(1/3), or 2 sqrt(d / a)
+        d = abs(qf[0])
+        expected = 2 * np.sqrt(d) if np.isinf(jmax) else 4 * d ** (1 / 3) / (2 * jmax) ** (1 / 3)
+        assert tr.duration == pytest.approx(expected, rel=1e-12)

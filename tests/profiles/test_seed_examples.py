@@ -7,21 +7,15 @@ Seed 003: a cubic straight line in task space from P_A to P_B in 10 s.
 
 from __future__ import annotations
 
-import sys
 from math import radians
-from pathlib import Path
 
 import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-import trajkit as tk
-
-# pytest puts this file's own folder (tests/profiles) on sys.path, not tests/, where the
-# shared helpers live; add it explicitly so `import support` works from the subfolder.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import support
+import trajkit as tk
 from support import CLOSED_FORM
 
 # ------------------------------------------------------------------------ seed 000 §3.1

@@ -9,22 +9,16 @@ whole-step phase counts that proves whether a quantized profile exists.
 from __future__ import annotations
 
 import re
-import sys
 import warnings
 from math import atan2, isclose, radians, sqrt
-from pathlib import Path
 
 import numpy as np
 import pytest
 from hypothesis import given, reject
 from hypothesis import strategies as st
 
-import trajkit as tk
-
-# pytest puts this file's own folder (tests/profiles) on sys.path, not tests/, where the
-# shared helpers live; add it explicitly so `import support` works from the subfolder.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import support
+import trajkit as tk
 from support import CLOSED_FORM, ROUNDING, joint_arrays, limits_positive, ndofs
 
 # Tolerances -------------------------------------------------------------------------

@@ -2,21 +2,14 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-import trajkit as tk
-
-# pytest puts this file's own folder (tests/profiles) on sys.path, not tests/, where the
-# shared helpers live; add it explicitly so `import support` works from the subfolder.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import support
+import trajkit as tk
 from support import CLOSED_FORM, COEFFICIENT
 
 

@@ -13,22 +13,17 @@ about 1.5, with the measured value beside each. Two have a closed form:
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path as FilePath
-
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
 import trajkit as tk
+from support import ROUNDING
 from trajkit import sim
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.kinematics import UR5, DHRow, SerialChain
 from trajkit.mobile import constant_twist
 from trajkit.sim.engine import compile_scene
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-from support import ROUNDING
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
 

@@ -9,8 +9,6 @@ times ``h q̈``), so they agree to rounding: measured 7e-16 of the largest torqu
 from __future__ import annotations
 
 import functools
-import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
@@ -21,8 +19,6 @@ from trajkit import sim
 from trajkit.kinematics import UR5, DHRow, RRBot, SerialChain, Spatial3R
 from trajkit.sim.dynamics import inverse_dynamics
 from trajkit.sim.engine import compile_scene
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
 

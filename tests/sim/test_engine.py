@@ -11,7 +11,6 @@ import functools
 import os
 import re
 import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
@@ -20,14 +19,12 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 import trajkit as tk
+from support import ROUNDING
 from trajkit import sim
 from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.mobile import constant_twist
 from trajkit.sim import engine
 from trajkit.sim.engine import SimulationUnavailableError, compile_scene, control_grid, open_loop
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-from support import ROUNDING
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
 

@@ -10,7 +10,6 @@ the MJCF carries 17 significant digits, so the two agree to rounding (measured
 from __future__ import annotations
 
 import functools
-import sys
 from pathlib import Path as FilePath
 
 import numpy as np
@@ -19,14 +18,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import trajkit as tk
+from support import ROUNDING
 from trajkit import sim
 from trajkit.errors import InvalidInputError
 from trajkit.kinematics import UR5, DHRow, Joint, RRBot, SerialChain, Spatial3R
 from trajkit.mobile import DiffDrive, Unicycle, jackal
 from trajkit.sim.engine import compile_scene
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-from support import ROUNDING
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
 

@@ -9,9 +9,6 @@ commands, so it matches the closed-form circle to rounding.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path as FilePath
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -19,7 +16,9 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from matplotlib.figure import Figure
 
+import support
 import trajkit as tk
+from support import ROUNDING, WORLD_ROUNDING
 from trajkit import sim
 from trajkit.errors import InvalidInputError
 from trajkit.mobile import (
@@ -31,10 +30,6 @@ from trajkit.mobile import (
     rotate_translate_rotate,
 )
 from trajkit.mobile.models import chain_arcs
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import ROUNDING, WORLD_ROUNDING
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
 

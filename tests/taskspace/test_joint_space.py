@@ -8,14 +8,14 @@ singularities, joint limits and branch selection; bad input.
 from __future__ import annotations
 
 import dataclasses
-import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+import support
+from support import CLOSED_FORM
 from trajkit.errors import InfeasibleError, InvalidInputError, UnreachableError
 from trajkit.kinematics import UR5, DHRow, Planar2R, RRBot, SerialChain, Spatial3R
 from trajkit.rotations import rotation_error
@@ -28,10 +28,6 @@ from trajkit.taskspace import (
     timed,
     to_joint_space,
 )
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import CLOSED_FORM
 
 # Tolerances ---------------------------------------------------------------------
 PATH_TOL = 1e-9  # FK of the joint spline against the task path (length unit)

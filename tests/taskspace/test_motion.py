@@ -7,16 +7,15 @@ cubic line against its closed form.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path as FilePath
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+import support
 import trajkit as tk
+from support import CLOSED_FORM, FINITE_DIFFERENCE
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.rotations import axis_rotation, rotation_error
 from trajkit.taskspace import (
@@ -31,10 +30,6 @@ from trajkit.taskspace import (
     through_poses,
     timed,
 )
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import CLOSED_FORM, FINITE_DIFFERENCE
 
 # Tolerances ---------------------------------------------------------------------
 SEED003 = 1e-12  # absolute: the seed's cubic line, coordinates up to 20

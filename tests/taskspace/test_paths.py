@@ -7,8 +7,6 @@ and each family against its defining formula (seed 002's segment and figure eigh
 from __future__ import annotations
 
 import itertools
-import sys
-from pathlib import Path as FilePath
 
 import numpy as np
 import pytest
@@ -16,13 +14,11 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+import support
+from support import FINITE_DIFFERENCE
 from trajkit.errors import InvalidInputError
 from trajkit.rotations import axis_rotation
 from trajkit.taskspace import Arc, Ellipse, FigureEight, Line, Path, Polyline
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-import support
-from support import FINITE_DIFFERENCE
 
 # Tolerances ---------------------------------------------------------------------
 GEOMETRY = 1e-12  # absolute, on O(1) coordinates: closed-form points of the paths

@@ -10,19 +10,14 @@ input, bad input and unreachable paths.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path as FilePath
-
 import numpy as np
 import pytest
 
 import trajkit as tk
+from support import LIMIT_TOUCH
 from trajkit.errors import InvalidInputError, UnreachableError
 from trajkit.kinematics import UR5, Planar2R, SerialChain, Spatial3R
 from trajkit.taskspace import Arc, Line, TimeOptimalMove, time_optimal, timed, to_joint_space
-
-sys.path.insert(0, str(FilePath(__file__).resolve().parents[1]))
-from support import LIMIT_TOUCH
 
 # Tolerances ---------------------------------------------------------------------
 ON_PATH = 1e-6  # length unit of the robot: dense FK of the timed joints against the path

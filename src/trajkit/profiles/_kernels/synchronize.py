@@ -187,15 +187,18 @@ def _units(pd, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max):
     speed = min(v_max, -v_min)
     push = min(a_max, -a_min)
     duration = 0.0
+    # Roots taken before the quotients: a subnormal distance over a jerk limit of 10
+    # would underflow to 0 (and a huge one over a small limit overflow), losing the
+    # time the move takes.
     if speed > 0.0:
         duration = max(duration, distance / speed)
     if push > 0.0:
-        duration = max(duration, math.sqrt(distance / push), change / push)
+        duration = max(duration, math.sqrt(distance) / math.sqrt(push), change / push)
     if math.isfinite(j_max) and j_max > 0.0:
         duration = max(
             duration,
-            (distance / j_max) ** (1.0 / 3.0),
-            math.sqrt(change / j_max),
+            distance ** (1.0 / 3.0) / j_max ** (1.0 / 3.0),
+            math.sqrt(change) / math.sqrt(j_max),
             max(abs(a0), abs(af)) / j_max,
         )
     tau = _ordinary_unit(duration)
@@ -204,16 +207,19 @@ def _units(pd, v0, a0, vf, af, v_max, v_min, a_max, a_min, j_max):
     if tau == 1.0 and lam == 1.0:
         return 1.0, 1.0
     # The limits in the new units must stay finite and normal (an infinite jerk
-    # limit means something else); where they would not, plan as given.
+    # limit means something else); where they would not, plan as given. Scaled by
+    # exponents: tau**3 of a tiny unit underflows where the limit it scales does not.
+    et = math.frexp(tau)[1] - 1
+    el = math.frexp(lam)[1] - 1
     for limit in (
-        v_max * tau / lam,
-        -v_min * tau / lam,
-        a_max * tau * tau / lam,
-        -a_min * tau * tau / lam,
+        math.ldexp(v_max, et - el),
+        math.ldexp(-v_min, et - el),
+        math.ldexp(a_max, 2 * et - el),
+        math.ldexp(-a_min, 2 * et - el),
     ):
         if not (1e-300 < limit < 1e300):
             return 1.0, 1.0
-    if math.isfinite(j_max) and not (1e-300 < j_max * tau**3 / lam < 1e300):
+    if math.isfinite(j_max) and not (1e-300 < math.ldexp(j_max, 3 * et - el) < 1e300):
         return 1.0, 1.0
     return tau, lam
 
