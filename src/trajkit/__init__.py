@@ -14,6 +14,7 @@ from trajkit.errors import (
     ContinuityWarning,
     InfeasibleError,
     InvalidInputError,
+    MissingDependencyError,
     TrajkitError,
     UnreachableError,
 )
@@ -43,6 +44,7 @@ __all__ = [
     "InfeasibleError",
     "InvalidInputError",
     "Limits",
+    "MissingDependencyError",
     "Report",
     "Samples",
     "State",

@@ -21,7 +21,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from trajkit._validation import FloatArray, positive_scalar
-from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.io.atomic import atomic_path, final_name
 
 if TYPE_CHECKING:
@@ -40,7 +40,7 @@ MAX_FRAMES = 20_000
 PROGRESS_FROM = 50
 
 
-class AnimationUnavailable(TrajkitError):
+class AnimationUnavailable(MissingDependencyError):
     """The writer a format needs (ffmpeg for MP4) is not installed."""
 
 
@@ -95,7 +95,8 @@ def _writer(path: Path, fps: float) -> Any:
         if shutil.which("ffmpeg") is None:
             raise AnimationUnavailable(
                 "MP4 needs the ffmpeg program, which is not on PATH (Debian: apt install "
-                "ffmpeg); write a .gif instead"
+                "ffmpeg); write a .gif instead",
+                install="apt install ffmpeg",
             )
         return animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
     raise InvalidInputError(f"an animation must end in .gif or .mp4, got {path.name!r}")

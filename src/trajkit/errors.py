@@ -11,6 +11,7 @@ __all__ = [
     "ContinuityWarning",
     "InfeasibleError",
     "InvalidInputError",
+    "MissingDependencyError",
     "TrajkitError",
     "UnreachableError",
 ]
@@ -44,6 +45,32 @@ class UnreachableError(TrajkitError):
     def __init__(self, message: str, *, index: int | None = None) -> None:
         super().__init__(message)
         self.index = index
+
+
+class MissingDependencyError(TrajkitError):
+    """An optional library (or program) a feature needs is not installed or cannot load.
+
+    Every such refusal is one of these (the simulator, sweeps, ROS 2 bags, URDF,
+    MP4 animations each have a subclass), so ``except MissingDependencyError``
+    catches them all; ``install`` is what makes the feature work (a ``pip install``
+    of trajkit's extra, a system package), None where nothing can be installed.
+    """
+
+    def __init__(self, message: str, *, install: str | None = None) -> None:
+        super().__init__(message)
+        self.install = install
+
+    @classmethod
+    def absent(
+        cls, feature: str, package: str, extra: str, reason: object = None
+    ) -> MissingDependencyError:
+        """The error for ``feature`` when ``package``, from trajkit's ``extra``, is absent."""
+        install = f'pip install "trajkit[{extra}]"'
+        detail = f" ({reason})" if reason else ""
+        return cls(
+            f"{feature}: {package} is not installed{detail}; install it with: {install}",
+            install=install,
+        )
 
 
 class ContinuityWarning(UserWarning):

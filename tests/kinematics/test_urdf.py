@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.kinematics import SerialChain, from_urdf
 from trajkit.kinematics import urdf as urdf_module
 
@@ -763,12 +763,14 @@ def test_source_of_wrong_type(source) -> None:
 
 def test_missing_yourdfpy(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setitem(sys.modules, "yourdfpy", None)  # makes `import yourdfpy` fail
-    with pytest.raises(TrajkitError) as info:
+    with pytest.raises(MissingDependencyError) as info:
         from_urdf(TWO_LINK)
-    assert type(info.value) is TrajkitError
-    assert str(info.value) == (
-        "reading URDF needs the optional dependency yourdfpy: pip install 'trajkit[urdf]'"
-    )
+    assert re.fullmatch(
+        r"reading URDF: yourdfpy is not installed \(.+\); install it with: "
+        r'pip install "trajkit\[urdf\]"',
+        str(info.value),
+    ), str(info.value)
+    assert info.value.install == 'pip install "trajkit[urdf]"'
 
 
 @pytest.mark.parametrize(

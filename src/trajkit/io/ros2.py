@@ -22,7 +22,7 @@ from typing import Any, Literal
 import numpy as np
 
 from trajkit._validation import FloatArray, positive_scalar
-from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.io.atomic import staged_files
 from trajkit.mobile.trajectory import MobileTrajectory
 from trajkit.trajectory import Trajectory, sample_times
@@ -31,7 +31,6 @@ __all__ = ["Ros2Unavailable", "require_rosbags", "write_bag"]
 
 Storage = Literal["mcap", "sqlite3"]
 Stream = Literal["joint_state", "point"]
-INSTALL_HINT = 'pip install "trajkit[ros]"'
 #: Pieces up to this degree are reproduced exactly by a controller's quintic
 #: interpolation between points that carry position, velocity and acceleration.
 _QUINTIC = 5
@@ -42,7 +41,7 @@ _LAST_STAMP = (2**31 - 1) * 1_000_000_000 + 999_999_999
 _NAME = re.compile(r"(/[A-Za-z][A-Za-z0-9_]*)+")
 
 
-class Ros2Unavailable(TrajkitError):
+class Ros2Unavailable(MissingDependencyError):
     """The ``rosbags`` library is not installed."""
 
 
@@ -52,9 +51,7 @@ def require_rosbags() -> tuple[Any, Any, Any]:
         from rosbags.rosbag2 import StoragePlugin, Writer
         from rosbags.typesys import Stores, get_typestore
     except ImportError as exc:
-        raise Ros2Unavailable(
-            f"ROS 2 bags need the rosbags library ({exc}); install it with: {INSTALL_HINT}"
-        ) from None
+        raise Ros2Unavailable.absent("ROS 2 bags", "the rosbags library", "ros", exc) from None
     return Writer, StoragePlugin, get_typestore(Stores.ROS2_HUMBLE)
 
 

@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from trajkit.errors import InvalidInputError, TrajkitError
+from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.kinematics.chain import Joint, SerialChain
 from trajkit.rotations import homogeneous, rpy_matrix
 
@@ -49,9 +49,6 @@ FloatArray = NDArray[np.float64]
 
 __all__ = ["from_urdf"]
 
-_MISSING_DEPENDENCY = (
-    "reading URDF needs the optional dependency yourdfpy: pip install 'trajkit[urdf]'"
-)
 _MOVABLE = ("revolute", "continuous", "prismatic")
 _KNOWN_TYPES = (*_MOVABLE, "fixed", "floating", "planar")
 # DTDs and entity declarations (XXE, "billion laughs") are refused outright.
@@ -129,7 +126,7 @@ def from_urdf(
     try:
         import yourdfpy
     except ImportError as exc:
-        raise TrajkitError(_MISSING_DEPENDENCY) from exc
+        raise MissingDependencyError.absent("reading URDF", "yourdfpy", "urdf", exc) from None
 
     label, data = _read_source(source)
     root = _parse_xml(label, data)

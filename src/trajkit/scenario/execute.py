@@ -146,7 +146,8 @@ def preflight(scenario: Scenario) -> None:
 
         if shutil.which("ffmpeg") is None:
             raise AnimationUnavailable("outputs.animation: mp4 needs the ffmpeg program, which "
-                                       "is not on PATH (Debian: apt install ffmpeg)")  # fmt: skip
+                                       "is not on PATH (Debian: apt install ffmpeg)",
+                                       install="apt install ffmpeg")  # fmt: skip
     if scenario.simulation["engine"] == "mujoco":
         from trajkit.sim.engine import mujoco_module
 

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from trajkit._validation import FloatArray, positive_scalar
-from trajkit.errors import InfeasibleError, InvalidInputError, TrajkitError
+from trajkit.errors import InfeasibleError, InvalidInputError, MissingDependencyError
 from trajkit.mobile.trajectory import command_count
 
 __all__ = [
@@ -35,7 +35,7 @@ __all__ = [
 INSTALL_HINT = 'pip install "trajkit[sim]"'
 
 
-class SimulationUnavailableError(TrajkitError):
+class SimulationUnavailableError(MissingDependencyError):
     """MuJoCo, or the OpenGL backend that off-screen rendering needs, is not available."""
 
 
@@ -77,9 +77,8 @@ def mujoco_module() -> ModuleType:
             fallback = _import_without_gl(exc)
             if fallback is not None:
                 return fallback
-        raise SimulationUnavailableError(
-            f"physics simulation needs MuJoCo, which is not installed ({exc}); "
-            f"install it with: {INSTALL_HINT}"
+        raise SimulationUnavailableError.absent(
+            "physics simulation", "MuJoCo", "sim", exc
         ) from None
     except Exception as exc:  # MuJoCo loads its OpenGL backend on import, which can fail
         fallback = _import_without_gl(exc) if _gl_selected() else None

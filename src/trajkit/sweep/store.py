@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from trajkit.errors import TrajkitError
+from trajkit.errors import MissingDependencyError
 from trajkit.sweep.planners import ChunkResult
 from trajkit.sweep.spec import SweepError, SweepSpec
 
@@ -37,7 +37,7 @@ __all__ = ["ScaleUnavailableError", "done_chunks", "encode_chunk", "lock", "prep
            "read_samples", "remove_temporaries", "require", "write_chunk"]  # fmt: skip
 
 
-class ScaleUnavailableError(TrajkitError):
+class ScaleUnavailableError(MissingDependencyError):
     """A library the sweep needs (pyarrow, zarr or ray) is not installed."""
 
 
@@ -48,9 +48,7 @@ def require(module: str) -> Any:
     try:
         return importlib.import_module(module)
     except ImportError:
-        raise ScaleUnavailableError(
-            f'sweeps need {module.split(".")[0]}: pip install "trajkit[scale]"'
-        ) from None
+        raise ScaleUnavailableError.absent("sweeps", module.split(".")[0], "scale") from None
 
 
 def prepare(spec: SweepSpec, out: Path) -> None:
