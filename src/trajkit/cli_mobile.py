@@ -19,7 +19,6 @@ import numpy as np
 from trajkit.cli_sim import add_sim_options, check_sim_options, render_or_note, write_frames
 from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import staged_files
-from trajkit.limits import Report
 from trajkit.mobile import (
     DiffDrive,
     MobileLimits,
@@ -35,7 +34,7 @@ from trajkit.mobile.flatness import FigureEight
 from trajkit.mobile.models import BASES, Model
 from trajkit.mobile.plans import MAX_TRAVEL
 
-__all__ = ["add_mobile_commands", "describe", "run_mobile"]
+__all__ = ["add_mobile_commands", "run_mobile"]
 
 CONTROLLERS = ("feedforward", "kanayama", "linearization", "pure-pursuit")
 PLOT_SUFFIXES = {".png", ".svg", ".pdf"}
@@ -125,43 +124,6 @@ def _limits(model: Model, args: argparse.Namespace) -> MobileLimits:
     return model.limits.replace(**changes)
 
 
-def describe(plan: MobileTrajectory, report: Report | None = None) -> str:
-    """A few lines about a plan: what it is, where it goes, and its limit check.
-
-    Parameters
-    ----------
-    plan : MobileTrajectory
-    report : Report, optional
-        ``plan.check()``, when the caller has it already (checking a curve is the
-        costly part).
-    """
-    info = plan.info
-    start, end = plan.start_pose, plan.end_pose
-    lines = [
-        f"{info.get('plan', 'mobile plan')} on {plan.model.name}: duration {plan.duration:.9g} s, "
-        f"from ({start[0]:.6g} m, {start[1]:.6g} m, {start[2]:.6g} rad) to "
-        f"({end[0]:.6g} m, {end[1]:.6g} m, {end[2]:.6g} rad)"
-    ]
-    for name, duration in zip(info.get("phases", ()), info.get("phase_durations", ()), strict=True):
-        lines.append(f"  {name}: {duration:.9g} s")
-    if info.get("plan") == "constant_twist":
-        line = (
-            f"  arc radius {info['radius']:.6g} m, turned {info['turned']:.6g} rad, "
-            f"{info['distance']:.6g} m along the path"
-        )
-        if info.get("rate_hz"):
-            line += f", {info['command_count']} commands at {info['rate_hz']:g} Hz"
-        lines.append(line)
-    if info.get("plan") == "flat_output":
-        line = f"  time scale {info['time_scale']:.6g}"
-        if info.get("limited_by"):
-            line += f" (set by the {info['limited_by']} limit)"
-        lines.append(line)
-    report = plan.check() if report is None else report
-    lines += ["  " + line for line in str(report).splitlines()]
-    return "\n".join(lines)
-
-
 def _check_suffix(path: Path | None, flag: str) -> None:
     if path is not None and path.suffix.lower() not in PLOT_SUFFIXES:
         raise InvalidInputError(f"{flag} must end in .png, .svg or .pdf, got {path.name!r}")
@@ -244,7 +206,7 @@ def run_mobile(args: argparse.Namespace) -> int:
         title = f"figure eight {args.width:g} m x {args.height:g} m, {args.controller}"
     images: list = []
     report = plan.check()
-    lines = [describe(plan, report)]
+    lines = [plan.describe(report)]
     if not report.ok and args.mobile_command == "figure8" and not args.fit:
         lines.append("  (--fit slows the curve down uniformly until every limit holds)")
     if args.sim == "mujoco":

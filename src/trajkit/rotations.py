@@ -19,6 +19,7 @@ FloatArray = NDArray[np.float64]
 __all__ = [
     "as_rotation_matrices",
     "axis_rotation",
+    "cross_columns",
     "homogeneous",
     "rotation_error",
     "rpy_matrix",
@@ -110,3 +111,10 @@ def as_rotation_matrices(name: str, value: ArrayLike) -> FloatArray:
     if not np.allclose(gram, np.eye(3), atol=1e-6) or np.any(np.linalg.det(array) < 0):
         raise InvalidInputError(f"{name} is not a rotation matrix (orthonormal, determinant +1)")
     return array
+
+
+def cross_columns(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Cross products of component-major stacks, (..., 3, m) (np.cross's axis handling is slow)."""
+    x0, x1, x2 = a[..., 0, :], a[..., 1, :], a[..., 2, :]
+    y0, y1, y2 = b[..., 0, :], b[..., 1, :], b[..., 2, :]
+    return np.stack([x1 * y2 - x2 * y1, x2 * y0 - x0 * y2, x0 * y1 - x1 * y0], axis=-2)

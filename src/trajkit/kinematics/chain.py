@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from trajkit._validation import finite_array
 from trajkit.errors import InvalidInputError
 from trajkit.limits import Limits
-from trajkit.rotations import axis_rotation, homogeneous
+from trajkit.rotations import axis_rotation, cross_columns, homogeneous
 
 if TYPE_CHECKING:
     from trajkit.kinematics.ik import IKSolution
@@ -437,7 +437,7 @@ class SerialChain:
         z, p = chain_pass.axes, chain_pass.positions
         arm = chain_pass.tool_position[np.newaxis] - p
         rev = self._revolute[:, np.newaxis, np.newaxis]
-        linear = np.where(rev, _cross(z, arm), z)
+        linear = np.where(rev, cross_columns(z, arm), z)
         angular = np.where(rev, z, 0.0)
         return np.concatenate([linear, angular], axis=1).transpose(2, 1, 0)
 
@@ -494,16 +494,16 @@ class SerialChain:
         # Angular velocity of the link each joint axis is fixed to: the joints before it.
         spin = np.where(rev, z, 0.0) * rates
         link_rate = np.cumsum(spin, axis=0) - spin
-        z_dot = _cross(link_rate, z)
+        z_dot = cross_columns(link_rate, z)
         # Velocity of each joint's origin, from the joints before it.
-        contribution = np.where(rev, -_cross(z, p), z) * rates
-        p_dot = _cross(link_rate, p) + np.cumsum(contribution, axis=0) - contribution
+        contribution = np.where(rev, -cross_columns(z, p), z) * rates
+        p_dot = cross_columns(link_rate, p) + np.cumsum(contribution, axis=0) - contribution
         jacobian = self._jacobian_of(chain_pass)  # (m, 6, ndof)
         tool_velocity = np.einsum("mkj,jm->km", jacobian[:, :3], rates[:, 0, :])
         arm = chain_pass.tool_position[np.newaxis] - p
         linear = np.where(
             rev,
-            _cross(z_dot, arm) + _cross(z, tool_velocity[np.newaxis] - p_dot),
+            cross_columns(z_dot, arm) + cross_columns(z, tool_velocity[np.newaxis] - p_dot),
             z_dot,
         )
         angular = np.where(rev, z_dot, 0.0)
@@ -652,13 +652,6 @@ def _local_terms(joint: Joint) -> tuple[FloatArray, FloatArray, FloatArray, Floa
 def _multiply(a: FloatArray, b: FloatArray) -> FloatArray:
     """Products of component-major 3x3 stacks: (3, 3, m) @ (3, 3, m or 1)."""
     return (a[:, :, np.newaxis, :] * b[np.newaxis, :, :, :]).sum(axis=1)
-
-
-def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Cross products of component-major stacks, (..., 3, m) (np.cross's axis handling is slow)."""
-    x0, x1, x2 = a[..., 0, :], a[..., 1, :], a[..., 2, :]
-    y0, y1, y2 = b[..., 0, :], b[..., 1, :], b[..., 2, :]
-    return np.stack([x1 * y2 - x2 * y1, x2 * y0 - x0 * y2, x0 * y1 - x1 * y0], axis=-2)
 
 
 def _apply(rotation: FloatArray, vector: FloatArray) -> FloatArray:

@@ -488,6 +488,42 @@ class MobileTrajectory:
             violations += compare(quantity, found, lower, upper, tolerance, ("base",))
         return Report(tuple(violations), peaks, bounds, channels)
 
+    def describe(self, report: Report | None = None) -> str:
+        """A few lines about the plan: what it is, where it goes, and its limit check.
+
+        Parameters
+        ----------
+        report : Report, optional
+            ``self.check()``, when the caller has it already (checking a curve is the
+            costly part).
+        """
+        info = self.info
+        start, end = self.start_pose, self.end_pose
+        lines = [
+            f"{info.get('plan', 'mobile plan')} on {self.model.name}: duration "
+            f"{self.duration:.9g} s, from ({start[0]:.6g} m, {start[1]:.6g} m, "
+            f"{start[2]:.6g} rad) to ({end[0]:.6g} m, {end[1]:.6g} m, {end[2]:.6g} rad)"
+        ]
+        phases = zip(info.get("phases", ()), info.get("phase_durations", ()), strict=True)
+        for name, duration in phases:
+            lines.append(f"  {name}: {duration:.9g} s")
+        if info.get("plan") == "constant_twist":
+            line = (
+                f"  arc radius {info['radius']:.6g} m, turned {info['turned']:.6g} rad, "
+                f"{info['distance']:.6g} m along the path"
+            )
+            if info.get("rate_hz"):
+                line += f", {info['command_count']} commands at {info['rate_hz']:g} Hz"
+            lines.append(line)
+        if info.get("plan") == "flat_output":
+            line = f"  time scale {info['time_scale']:.6g}"
+            if info.get("limited_by"):
+                line += f" (set by the {info['limited_by']} limit)"
+            lines.append(line)
+        report = self.check() if report is None else report
+        lines += ["  " + line for line in str(report).splitlines()]
+        return "\n".join(lines)
+
     def _law_jerk(self, quantity: str, kind: str) -> Extrema:
         """Extrema of the jerk of every drive (or turn) law, exactly; 0 where none."""
         low = high = 0.0

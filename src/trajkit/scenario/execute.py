@@ -288,9 +288,7 @@ def _mobile_plan(scenario: Scenario, model: Any, lines: list[str]) -> tuple[Any,
         curve = mobile.FigureEight(task["width"], task["height"], task["period"])
         timing = "within_limits" if task["fit"] else "as_given"
         plan = mobile.flat_trajectory(curve, model=model, limits=limits, timing=timing)
-    from trajkit.cli_mobile import describe
-
-    lines += ["  " + line for line in describe(plan).splitlines()[:1]]
+    lines += ["  " + line for line in plan.describe().splitlines()[:1]]
     for name, duration in zip(plan.info.get("phases", ()), plan.info.get("phase_durations", ()),
                               strict=True):  # fmt: skip
         lines.append(f"    {name}: {duration:.9g} s")

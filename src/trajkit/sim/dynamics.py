@@ -17,7 +17,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from trajkit._validation import FloatArray
-from trajkit.kinematics.chain import SerialChain, _cross
+from trajkit.kinematics.chain import SerialChain
+from trajkit.rotations import cross_columns
 from trajkit.sim.engine import mujoco_module
 
 __all__ = ["inverse_dynamics"]
@@ -69,25 +70,31 @@ def inverse_dynamics(
     for i in range(n):  # the recursion runs along the chain; every sample at once
         rotation, axis = rotations[i], axes[i]
         lever = origins[i] - previous
-        accel = accel + _cross(alpha, lever) + _cross(omega, _cross(omega, lever))
+        accel = (
+            accel + cross_columns(alpha, lever) + cross_columns(omega, cross_columns(omega, lever))
+        )
         rate = axis * qd[:, i]
         if robot.revolute[i]:
-            alpha = alpha + axis * qdd[:, i] + _cross(omega, rate)
+            alpha = alpha + axis * qdd[:, i] + cross_columns(omega, rate)
             omega = omega + rate
         else:
-            accel = accel + axis * qdd[:, i] + 2.0 * _cross(omega, rate)
+            accel = accel + axis * qdd[:, i] + 2.0 * cross_columns(omega, rate)
         offset = _rotate(rotation, com_local[i])
-        com_accel = accel + _cross(alpha, offset) + _cross(omega, _cross(omega, offset))
+        com_accel = (
+            accel
+            + cross_columns(alpha, offset)
+            + cross_columns(omega, cross_columns(omega, offset))
+        )
         forces.append(mass[i] * com_accel)
         spin = _inertia_times(rotation, inertia_local[i], omega)
-        moment = _inertia_times(rotation, inertia_local[i], alpha) + _cross(omega, spin)
-        moments.append(moment + _cross(offset, forces[i]))
+        moment = _inertia_times(rotation, inertia_local[i], alpha) + cross_columns(omega, spin)
+        moments.append(moment + cross_columns(offset, forces[i]))
         previous = origins[i]
     torque = np.empty(q.shape)
     force = moment = np.zeros((3, q.shape[0]))
     for i in reversed(range(n)):
         if i + 1 < n:
-            moment = moment + _cross(origins[i + 1] - origins[i], force)
+            moment = moment + cross_columns(origins[i + 1] - origins[i], force)
         force = force + forces[i]
         moment = moment + moments[i]
         along = moment if robot.revolute[i] else force
