@@ -62,7 +62,8 @@ def test_progress_bar_on_a_given_stream(tmp_path):
                 progress=stream)  # fmt: skip
     text = stream.getvalue()
     assert text.startswith("\ranimating long.gif [")
-    assert text.endswith("[#########################] 100%\n")
+    assert text.endswith("[####################] 100%\n")  # the shared bar, 20 wide
+    assert text.count("\r") <= 101  # redrawn only when its line changes
 
 
 def test_no_progress_bar_off_a_terminal_or_when_refused(tmp_path, capsys):

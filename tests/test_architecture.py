@@ -24,7 +24,7 @@ FLOORS = {
     "core": (
         "trajkit._poly", "trajkit._validation", "trajkit._periods", "trajkit.errors",
         "trajkit.limits", "trajkit.trajectory", "trajkit.samples", "trajkit.rotations",
-        "trajkit.io.atomic", "trajkit.io.table",
+        "trajkit.io.atomic", "trajkit.io.table", "trajkit.progress",
     ),
     "domain": (
         "trajkit.profiles", "trajkit.time_optimal", "trajkit.kinematics", "trajkit.taskspace",

@@ -23,6 +23,7 @@ from matplotlib.figure import Figure
 from trajkit._validation import FloatArray, positive_scalar
 from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.io.atomic import atomic_path, final_name
+from trajkit.progress import ProgressBar
 
 if TYPE_CHECKING:
     from trajkit.kinematics.chain import SerialChain
@@ -56,33 +57,6 @@ def _frame_times(start: float, end: float, fps: float, speed: float) -> FloatArr
         )
     times = start + speed * np.arange(count) / fps
     return np.append(times, end) if end - times[-1] > 1e-9 * max(1.0, end) else times
-
-
-class _Progress:
-    """A one-line progress bar on a terminal stream, redrawn as frames are written."""
-
-    def __init__(self, total: int, label: str, stream: TextIO | None) -> None:
-        self.total, self.label, self.stream = total, label, stream
-        self.shown = -1
-
-    def __call__(self, done: int, _total: int | None = None) -> None:
-        if self.stream is None:
-            return
-        percent = int(100 * (done + 1) / self.total)
-        if percent != self.shown:
-            self.shown = percent
-            bar = "#" * (percent // 4)
-            self.stream.write(f"\r{self.label} [{bar:<25}] {percent:3d}%")
-            if done + 1 >= self.total:
-                self.stream.write("\n")
-            self.stream.flush()
-
-    def abandon(self) -> None:
-        """End a bar cut short, so that the next message starts on a line of its own."""
-        if self.stream is not None and 0 <= self.shown < 100:
-            self.stream.write("\n")
-            self.stream.flush()
-            self.shown = 100
 
 
 def _writer(path: Path, fps: float) -> Any:
@@ -121,13 +95,17 @@ def _save(
     if count < PROGRESS_FROM or (progress is True and not sys.stderr.isatty()):
         stream = None
     # A path staged by trajkit.io.atomic is a temporary: the bar shows the name the user chose.
-    bar = _Progress(count, f"animating {final_name(path)}", stream)
+    bar = ProgressBar(count, f"animating {final_name(path)}", stream, live=True)
+
+    def frame_written(done: int, _total: int | None = None) -> None:
+        bar(done + 1, f"{int(100 * (done + 1) / count):3d}%")
+
     movie = animation.FuncAnimation(figure, draw, frames=count, blit=False, repeat=False)
     try:
         with atomic_path(path) as scratch:
-            movie.save(scratch, writer=writer, progress_callback=bar)
+            movie.save(scratch, writer=writer, progress_callback=frame_written)
     except BaseException as exc:
-        bar.abandon()
+        bar.close()
         interrupt = _interrupt_behind(exc)
         if interrupt is not None and interrupt is not exc:
             # Ctrl-C before the first frame makes the GIF writer fail on closing (no

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from trajkit.errors import InvalidInputError
+from trajkit.progress import ProgressBar
 from trajkit.sweep.spec import SweepError, SweepSpec
 from trajkit.sweep.store import (
     done_chunks,
@@ -38,7 +39,7 @@ from trajkit.sweep.store import (
     write_chunk,
 )
 
-__all__ = ["ENGINES", "ProgressBar", "Summary", "plan_chunk", "progress_bar", "run"]
+__all__ = ["ENGINES", "Summary", "SweepProgress", "plan_chunk", "progress_bar", "run"]
 
 
 @dataclass(frozen=True)
@@ -292,42 +293,30 @@ def run(
                    time.perf_counter() - start)  # fmt: skip
 
 
-class ProgressBar:
-    """A one-line progress bar: chunks, problems and problems per second.
+class SweepProgress:
+    """A sweep's progress, as :func:`run`'s ``progress``: chunks, problems, problems per second.
 
-    Call it as :func:`run`'s ``progress``; :meth:`close` ends a line left open on a
-    terminal, so a message after an interruption starts a line of its own.
+    Drawn by the one :class:`trajkit.progress.ProgressBar` (redrawn on a terminal,
+    about twenty lines elsewhere); :meth:`close` ends a line left open.
     """
 
     def __init__(self, stream: Any = None) -> None:
         self.stream = sys.stderr if stream is None else stream
-        self.live = bool(getattr(self.stream, "isatty", lambda: False)())
-        self._last = -1
-        self._open = False  # a live line without its newline yet
+        self._bar: ProgressBar | None = None
 
     def __call__(self, done: int, total: int, problems: int, seconds: float) -> None:
         """Show ``done`` of ``total`` chunks and ``problems`` planned in ``seconds``."""
-        filled = round(20 * done / max(total, 1))
+        if self._bar is None:
+            self._bar = ProgressBar(total, stream=self.stream)
         rate = problems / seconds if seconds > 0 else 0.0
-        line = (f"[{'#' * filled}{'.' * (20 - filled)}] {done}/{total} chunks, "
-                f"{problems:,} problems, {rate:,.0f} problems/s")  # fmt: skip
-        if self.live:
-            self.stream.write("\r" + line + ("\n" if done == total else ""))
-            self.stream.flush()
-            self._open = done != total
-        elif filled != self._last or done == total:  # about 20 lines, not one per chunk
-            self.stream.write(line + "\n")
-            self.stream.flush()
-        self._last = filled
+        self._bar(done, f"{done}/{total} chunks, {problems:,} problems, {rate:,.0f} problems/s")
 
     def close(self) -> None:
         """End the bar's line if it is still open (an interrupted or failed run)."""
-        if self._open:
-            self.stream.write("\n")
-            self.stream.flush()
-            self._open = False
+        if self._bar is not None:
+            self._bar.close()
 
 
-def progress_bar(stream: Any = None) -> ProgressBar:
+def progress_bar(stream: Any = None) -> SweepProgress:
     """A one-line progress bar on ``stream`` (default stderr), redrawn on a terminal."""
-    return ProgressBar(stream)
+    return SweepProgress(stream)
