@@ -25,6 +25,9 @@ pytest.importorskip(
     "rosbags", reason='trajkit.io.ros2 writes bags with rosbags: pip install "trajkit[ros]"'
 )
 pytest.importorskip(
+    "mcap", reason="bags are read back by the independent MCAP reader: pip install mcap"
+)
+pytest.importorskip(
     "mcap_ros2",
     reason="bags are read back by the independent MCAP reader: pip install mcap-ros2-support",
 )

@@ -241,7 +241,7 @@ def test_extra_successes_match_the_reference_in_other_units(pb):
     # Positions of 1e3 to 1e5 rad: ruckig fails (absolute tolerances), we succeed,
     # and ruckig agrees on the problem with lengths scaled by a power of two (an
     # exact change of units that leaves durations alone).
-    ruckig = pytest.importorskip("ruckig")
+    ruckig = pytest.importorskip("ruckig", reason="ruckig (test oracle) is not installed")
     ok, block, bt = fastest(*pb)
     assert ok
     assert_profile(block[0], *pb, rel=1e-11)

@@ -43,7 +43,7 @@ from trajkit.profiles._kernels.jerk_fastest import is_blocked
 from trajkit.profiles._kernels.layout import PF, SIZE, T_SUM, VF, A, P, T, V
 from trajkit.profiles._kernels.profile import duration, set_boundary, state_at
 
-ruckig = pytest.importorskip("ruckig")
+ruckig = pytest.importorskip("ruckig", reason="ruckig (test oracle) is not installed")
 from ruckig import InputParameter, Result, Ruckig, Trajectory  # noqa: E402
 
 INF = math.inf

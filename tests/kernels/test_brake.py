@@ -13,7 +13,6 @@ import math
 
 import numpy as np
 import pytest
-from ruckig import ControlInterface, InputParameter, Result, Ruckig, Trajectory
 
 from trajkit.profiles._kernels.brake import (
     position_brake,
@@ -37,6 +36,9 @@ from trajkit.profiles._kernels.profile import (
     finalize_brake_second_order,
     new_profile,
 )
+
+ruckig = pytest.importorskip("ruckig", reason="ruckig (test oracle) is not installed")
+from ruckig import ControlInterface, InputParameter, Result, Ruckig, Trajectory  # noqa: E402
 
 SEED = 7321
 N = 200

@@ -286,7 +286,6 @@ def test_against_ruckig(family):
 
 def test_with_brake_against_ruckig():
     """Start states beyond the limits: the brake pre-profile, then the fastest move."""
-    pytest.importorskip("trajkit.profiles._kernels.brake")
 
     def draw(rng):
         problem = list(draw_random(rng, asymmetric=True, within=False))

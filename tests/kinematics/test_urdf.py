@@ -15,7 +15,7 @@ from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.kinematics import SerialChain, from_urdf
 from trajkit.kinematics import urdf as urdf_module
 
-pytest.importorskip("yourdfpy")
+pytest.importorskip("yourdfpy", reason='URDF is read with yourdfpy: pip install "trajkit[urdf]"')
 
 DATA = Path(__file__).resolve().parent / "data"
 TWO_LINK = DATA / "two_link.urdf"
@@ -133,14 +133,18 @@ def raises_invalid(match: str, source, **kwargs) -> InvalidInputError:
 # ------------------------------------------------------------- real robot files
 @pytest.fixture(scope="module")
 def rtbdata_dir() -> Path:
-    rtbdata = pytest.importorskip("rtbdata")
+    rtbdata = pytest.importorskip(
+        "rtbdata", reason="rtb-data (the oracle's robot files) is not installed"
+    )
     return Path(os.path.dirname(rtbdata.__file__))
 
 
 def rtb_robot(path: Path):
     """Robotics Toolbox's own model of a URDF file (visual/collision stripped:
     the mesh packages of some files are not shipped, and rtb needs no meshes)."""
-    rtb = pytest.importorskip("roboticstoolbox")
+    rtb = pytest.importorskip(
+        "roboticstoolbox", reason="roboticstoolbox (test oracle) is not installed"
+    )
     from roboticstoolbox.models.URDF.URDFRobot import URDF_read
 
     def strip(text: str) -> str:

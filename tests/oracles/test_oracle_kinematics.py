@@ -13,8 +13,10 @@ import pytest
 
 from trajkit.kinematics import UR5, DHRow, Planar2R, SerialChain
 
-rtb = pytest.importorskip("roboticstoolbox")
-mr = pytest.importorskip("modern_robotics")
+rtb = pytest.importorskip(
+    "roboticstoolbox", reason="roboticstoolbox (test oracle) is not installed"
+)
+mr = pytest.importorskip("modern_robotics", reason="modern-robotics (test oracle) is not installed")
 
 # Tolerances ------------------------------------------------------------------------
 EXACT = 1e-12  # the same DH products evaluated by two codes (m, rad)

@@ -6,10 +6,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pyarrow as pa
-import pyarrow.compute as pc
+import pytest
 
 from trajkit import sweep
+
+NEEDS = 'sweeps store rows with pyarrow: pip install "trajkit[scale]"'
+pa = pytest.importorskip("pyarrow", reason=NEEDS)
+pc = pytest.importorskip("pyarrow.compute", reason=NEEDS)
 
 
 def trapezoid_file(problems: int = 3000, chunk: int = 500, *, seed: int = 5, joints: int = 6,

@@ -10,13 +10,12 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import pyarrow.compute as pc
 import pytest
 
 from trajkit import sweep
 from trajkit.errors import InvalidInputError
 
-from .helpers import assert_same_rows, data_files, parts, rows, trapezoid_file
+from .helpers import assert_same_rows, data_files, parts, pc, rows, trapezoid_file
 
 ENGINES = [("local", 1), ("local", 2), ("ray", 2)]
 PROBLEMS, CHUNK = 3000, 500
