@@ -1,4 +1,4 @@
-"""One mutation helper for both scenario fuzzers (tests/test_scenario.py, test_scenario_fuzz.py).
+"""One mutation helper for both scenario fuzzers (test_scenario.py, test_scenario_fuzz.py).
 
 A scenario (or sweep) file is read into its TOML data; :func:`mutated` changes one
 key there (replaces, deletes, or joins it with an unknown sibling); :func:`to_toml`

@@ -26,11 +26,11 @@ import warnings
 from pathlib import Path
 
 import pytest
-
 from scenario_mutations import mutated, places, to_toml
+
 from trajkit.cli import main
 
-EXAMPLES = Path(__file__).parent.parent / "examples"
+EXAMPLES = Path(__file__).parents[2] / "examples"
 SCENARIOS = sorted(EXAMPLES.glob("*.toml"))
 SWEEPS = sorted((EXAMPLES / "sweeps").glob("*.toml"))
 RUNS = int(os.environ.get("TRAJKIT_FUZZ_RUNS", "320"))

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from scenario_mutations import mutated, places
 
 import trajkit as tk
-from scenario_mutations import mutated, places
 from trajkit import scenario
 from trajkit.cli import main
 from trajkit.errors import InvalidInputError, TrajkitError
@@ -22,7 +22,7 @@ from trajkit.scenario import ScenarioError
 from trajkit.scenario.execute import _limits_text
 from trajkit.scenario.parse import from_data
 
-EXAMPLES = sorted((Path(__file__).parent.parent / "examples").glob("*.toml"))
+EXAMPLES = sorted((Path(__file__).parents[2] / "examples").glob("*.toml"))
 
 ARM = """
 name = "arm"
@@ -81,7 +81,7 @@ def test_every_example_runs_and_writes_its_outputs(path, tmp_path):
 
 
 def test_examples_reproduce_the_coursework_figures(tmp_path):
-    folder = Path(__file__).parent.parent / "examples"
+    folder = Path(__file__).parents[2] / "examples"
     trapezoid = scenario.run(folder / "seed001_six_joint_trapezoid.toml", tmp_path, log=len)
     assert trapezoid.plan.duration == pytest.approx(14.608, abs=1e-12)
     line = scenario.run(folder / "seed003_arm3_line.toml", tmp_path, log=len)
@@ -97,7 +97,7 @@ def test_examples_reproduce_the_coursework_figures(tmp_path):
 
 
 def test_seed004_polynomial_is_the_lecture_solution(tmp_path):
-    folder = Path(__file__).parent.parent / "examples"
+    folder = Path(__file__).parents[2] / "examples"
     outcome = scenario.run(folder / "seed004_example2_continuous_via.toml", tmp_path, log=len)
     expected = tk.polynomial(
         [[(0, 0, 0.0), (0, 1, 0.0), (1, 0, 0.5)], [(1, 0, 0.5), (3, 0, 1.0), (3, 1, 0.0)]],
@@ -538,7 +538,7 @@ def test_goto_jerk_limits_are_checked_by_key(change, message):
 
 FIGURE8 = 'name = "eight"\n[robot]\nbuiltin = "jackal"\n[task]\nkind = "figure8"\n'
 ELLIPSE = (
-    (Path(__file__).parent.parent / "examples" / "seed002_two_link_ellipse.toml")
+    (Path(__file__).parents[2] / "examples" / "seed002_two_link_ellipse.toml")
     .read_text(encoding="utf-8")
     .replace('animation = "gif"', 'animation = "none"\nplot = false')
 )
