@@ -32,8 +32,7 @@ FLOORS = {
     ),
     "outputs": ("trajkit.plot", "trajkit.animate", "trajkit.report", "trajkit.io"),
     "orchestration": ("trajkit.scenario", "trajkit.sweep", "trajkit.demo", "trajkit.examples"),
-    "cli": ("trajkit.cli", "trajkit.cli_mobile", "trajkit.cli_sim", "trajkit.cli_sweep",
-            "trajkit.__main__"),
+    "cli": ("trajkit.cli",),
 }  # fmt: skip
 ORDER = list(FLOORS)
 

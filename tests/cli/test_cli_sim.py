@@ -157,7 +157,7 @@ def test_mobile_plans_in_mujoco_at_the_default_rate(command, capsys):
 def test_check_sim_options_accepts_mujoco_with_outputs():
     import argparse
 
-    from trajkit.cli_sim import check_sim_options
+    from trajkit.cli.sim import check_sim_options
 
     args = argparse.Namespace(sim="mujoco", control_rate_hz=100.0, frames="f", sim_plot="p.png",
                               sim_csv="c.csv")  # fmt: skip

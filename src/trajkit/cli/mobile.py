@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from trajkit.cli_sim import add_sim_options, check_sim_options, render_or_note, write_frames
+from trajkit.cli.sim import add_sim_options, check_sim_options, render_or_note, write_frames
 from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import staged_files
 from trajkit.mobile import (

@@ -19,15 +19,15 @@ from pathlib import Path
 import numpy as np
 
 import trajkit
-from trajkit.cli_mobile import add_mobile_commands, run_mobile
-from trajkit.cli_sim import (
+from trajkit.cli.mobile import add_mobile_commands, run_mobile
+from trajkit.cli.sim import (
     add_sim_options,
     check_sim_options,
     render_or_note,
     simulate_arm,
     write_frames,
 )
-from trajkit.cli_sweep import add_sweep_command, run_sweep
+from trajkit.cli.sweep import add_sweep_command, run_sweep
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import staged_files
 from trajkit.limits import Limits
@@ -511,7 +511,3 @@ def _demo(args: argparse.Namespace) -> int:
     written = run(args.out, log=print)
     print(f"trajkit demo: wrote {len(written)} files to {args.out}")
     return 0
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
