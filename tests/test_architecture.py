@@ -30,7 +30,7 @@ FLOORS = {
         "trajkit.profiles", "trajkit.time_optimal", "trajkit.kinematics", "trajkit.taskspace",
         "trajkit.mobile", "trajkit.sim", "trajkit.batch", "trajkit.online", "trajkit.analysis",
     ),
-    "outputs": ("trajkit.plot", "trajkit.animate", "trajkit.report", "trajkit.io"),
+    "outputs": ("trajkit.viz", "trajkit.io"),
     "orchestration": ("trajkit.scenario", "trajkit.sweep", "trajkit.demo", "trajkit.examples"),
     "cli": ("trajkit.cli",),
 }  # fmt: skip

@@ -5,11 +5,11 @@ from __future__ import annotations
 import pytest
 
 import trajkit as tk
-from trajkit.animate import AnimationUnavailable
 from trajkit.errors import MissingDependencyError, TrajkitError
 from trajkit.io.ros2 import Ros2Unavailable
 from trajkit.sim.engine import SimulationUnavailableError
 from trajkit.sweep.store import ScaleUnavailableError, require
+from trajkit.viz.animate import AnimationUnavailable
 
 
 @pytest.mark.parametrize(

@@ -318,8 +318,8 @@ def test_polynomial_refuses_continuity_and_degrees_that_are_not_sequences() -> N
 # ------------------------------------------------------------------ animate.arm
 def test_animate_arm_draws_a_joint_space_plan(tmp_path: Any) -> None:
     # A JointSpacePlan (what taskspace.to_joint_space returns) raised AttributeError.
-    from trajkit import animate
     from trajkit.kinematics import Spatial3R
+    from trajkit.viz import animate
 
     robot = Spatial3R()
     motion = taskspace.timed(taskspace.Line([0, -12, 20], [10, 12, 20]), "cubic", duration=0.4)
@@ -330,8 +330,8 @@ def test_animate_arm_draws_a_joint_space_plan(tmp_path: Any) -> None:
 
 
 def test_animate_arm_refuses_what_is_not_a_joint_trajectory(tmp_path: Any) -> None:
-    from trajkit import animate
     from trajkit.kinematics import Spatial3R
+    from trajkit.viz import animate
 
     robot = Spatial3R()
     with pytest.raises(tk.InvalidInputError) as caught:

@@ -53,6 +53,7 @@ __all__ = [
     "UnreachableError",
     "Violation",
     "__version__",
+    "animate",
     "batch",
     "blended",
     "check",
@@ -64,6 +65,7 @@ __all__ = [
     "polynomial",
     "quintic",
     "quintic_via",
+    "report",
     "scurve",
     "septic",
     "topp",
@@ -72,7 +74,7 @@ __all__ = [
 ]
 
 # Submodules that pull in heavy libraries (matplotlib) load on first use only.
-_LAZY = {"plot": "trajkit.plot"}
+_LAZY = {name: f"trajkit.viz.{name}" for name in ("animate", "plot", "report")}
 
 
 def __getattr__(name: str) -> Any:

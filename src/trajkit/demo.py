@@ -429,7 +429,7 @@ def run(out: str | Path, log: Log = print) -> list[Path]:
         --report``): the demo refuses to replace it.
     """
     from trajkit import scenario
-    from trajkit.report import page_title, write_report
+    from trajkit.viz.report import page_title, write_report
 
     folder = Path(out)
     index_page = folder / "index.html"

@@ -416,12 +416,12 @@ def test_the_rrbot_example_bag_has_the_trajectory_and_a_joint_state_stream(tmp_p
 
 
 def test_an_interrupted_run_leaves_no_output(tmp_path, monkeypatch):
-    import trajkit.plot
+    import trajkit.viz.plot
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(trajkit.plot, "save", interrupted)
+    monkeypatch.setattr(trajkit.viz.plot, "save", interrupted)
     with pytest.raises(KeyboardInterrupt):
         scenario.execute(scenario.parse(ARM), tmp_path / "out", log=len)
     assert list((tmp_path / "out").iterdir()) == []
@@ -444,12 +444,12 @@ def test_trajkit_run_exits_1_when_the_plan_breaks_a_limit(tmp_path, capsys):
 
 
 def test_ctrl_c_is_one_line_and_leaves_nothing(tmp_path, capsys, monkeypatch):
-    import trajkit.plot
+    import trajkit.viz.plot
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(trajkit.plot, "save", interrupted)
+    monkeypatch.setattr(trajkit.viz.plot, "save", interrupted)
     path = tmp_path / "arm.toml"
     path.write_text(ARM, encoding="utf-8")
     status = main(["run", str(path), "--out", str(tmp_path / "out"), "--report"])

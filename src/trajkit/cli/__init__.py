@@ -416,14 +416,14 @@ def _plan(args: argparse.Namespace) -> int:
                 stage.path(args.csv)
             )
         if args.plot is not None:
-            from trajkit.plot import profiles, save
+            from trajkit.viz.plot import profiles, save
 
             figure = profiles(trajectory, limits, degrees=args.deg, title=f"{args.profile} move")
             save(figure, stage.path(args.plot))
         if log is not None and args.sim_csv is not None:
             log.to_csv(stage.path(args.sim_csv))
         if log is not None and args.sim_plot is not None:
-            from trajkit.plot import save, tracking
+            from trajkit.viz.plot import save, tracking
 
             title = f"{args.profile} move on {scene.robot.name}, {log.controller}"
             save(tracking(log, degrees=args.deg, title=title), stage.path(args.sim_plot))
@@ -481,7 +481,7 @@ def _run_scenario(args: argparse.Namespace) -> int:
 
     _check_out_folder(args.out)
     if args.report:
-        from trajkit.report import page_title
+        from trajkit.viz.report import page_title
 
         title = page_title(args.out / "index.html")
         if title is not None and not title.startswith("trajkit: "):

@@ -143,7 +143,7 @@ def _write(
             else:
                 log.to_csv(stage.path(args.csv))
         if args.plot is not None or args.path_plot is not None:
-            from trajkit import plot
+            from trajkit.viz import plot
 
             data = plan if log is None else log
             if args.plot is not None:

@@ -121,7 +121,7 @@ def execute(
             _write_bag(scenario, robot, plan, stage.folder(stem.with_name(f"{scenario.name}_bag")))
         outcome = Outcome(plan, checked, run, list(stage.targets), lines)
         if report:
-            from trajkit.report import write_report
+            from trajkit.viz.report import write_report
 
             page = folder / "index.html"
             write_report(stage.path(page), [report_entry(scenario, outcome)],
@@ -142,7 +142,7 @@ def preflight(scenario: Scenario) -> None:
     if outputs["animation"] == "mp4":
         import shutil
 
-        from trajkit.animate import AnimationUnavailable
+        from trajkit.viz.animate import AnimationUnavailable
 
         if shutil.which("ffmpeg") is None:
             raise AnimationUnavailable("outputs.animation: mp4 needs the ffmpeg program, which "
@@ -349,7 +349,7 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
             tk.plot.save(tk.plot.mobile(data, title=name), at(".png"))
             tk.plot.save(tk.plot.mobile_path(data, title=name), at("_path.png"))
         if outputs["animation"] != "none":
-            from trajkit import animate
+            from trajkit.viz import animate
 
             animate.mobile(plan if run is None else run, at(f".{outputs['animation']}"),
                            title=name, progress=True, fps=outputs["animation_fps"],
@@ -376,7 +376,7 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
         run.to_csv(at("_sim.csv"))
         tk.plot.save(tk.plot.tracking(run, title=f"{name} in MuJoCo"), at("_sim.png"))
     if outputs["animation"] != "none":
-        from trajkit import animate
+        from trajkit.viz import animate
 
         animate.arm(
             robot,
@@ -392,8 +392,8 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
 
 
 def report_entry(scenario: Scenario, outcome: Outcome) -> Any:
-    """The :class:`trajkit.report.Entry` of one run."""
-    from trajkit.report import Entry
+    """The :class:`trajkit.viz.report.Entry` of one run."""
+    from trajkit.viz.report import Entry
 
     run = outcome.log
     tracking = ""

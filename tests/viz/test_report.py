@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from trajkit import scenario
-from trajkit.report import Entry, write_report
+from trajkit.viz.report import Entry, write_report
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 #: The flags a closed-network machine needs (no background connections, no sandbox as root).

@@ -1,7 +1,7 @@
 """Plots of trajectories: stacked position / velocity / acceleration (/ jerk) panels.
 
 This module imports matplotlib; ``import trajkit`` does not, and loads this module
-on first use of ``trajkit.plot``. Figures are built with the object-oriented API
+on first use of ``trajkit.viz.plot``. Figures are built with the object-oriented API
 (no pyplot state), so they can be made in threads and in scripts without a screen.
 """
 

@@ -11,10 +11,11 @@ import pytest
 from PIL import Image
 
 import trajkit as tk
-from trajkit import animate, mobile
-from trajkit.animate import AnimationUnavailable
+from trajkit import mobile
 from trajkit.errors import InvalidInputError
 from trajkit.kinematics import RRBot, Spatial3R
+from trajkit.viz import animate
+from trajkit.viz.animate import AnimationUnavailable
 
 PLAN = tk.cubic(np.radians([0.0, 0.0]), np.radians([60.0, -40.0]), duration=2.0)
 
