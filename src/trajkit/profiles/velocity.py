@@ -137,6 +137,7 @@ def velocity_room(
         problem = f"problem {where[0]}, " if len(where) == 2 else ""
         raise InfeasibleError(
             f"{planner}: the speeds of {problem}joint {where[-1] + 1} are beyond float64 "
-            f"(v0={float(v0[where]):.6g}, vf={float(vf[where]):.6g} rad/s)"
+            f"(v0={float(v0[where]):.6g}, vf={float(vf[where]):.6g} rad/s, "
+            f"a0={float(a0[where]):.6g}, af={float(af[where]):.6g} rad/s^2)"
         )
     return wide
