@@ -479,3 +479,18 @@ def test_grid_duration_puts_only_the_durations_on_the_period_grid(planner):
     np.testing.assert_allclose(steps, np.round(steps), rtol=0, atol=1e-9 * steps.max())
     with pytest.raises(tk.InvalidInputError, match=r"^grid must be 'switches' or 'duration'"):
         getattr(tk.batch, planner)(q0, qf, *limits, dt=0.01, grid="phases")
+
+
+def test_a_batch_of_one_problem_runs_the_kernel_already_compiled() -> None:
+    # The sync codes of one problem were a read-only broadcast view: the batch kernel
+    # compiled a second copy for it (about a minute) on the first one-problem batch.
+    from trajkit.profiles import engine
+
+    kernel = engine.kernels().batch
+    if not hasattr(kernel, "signatures"):
+        pytest.skip("numba's JIT is disabled")
+    for count in (3, 1):
+        plans = tk.batch.scurve(np.zeros((count, 2)), np.ones((count, 2)), 1.0, 2.0, 10.0)
+        assert plans.durations.shape == (count,)
+        tk.batch.velocity_change(np.zeros((count, 2)), 1.0, 2.0, 10.0)
+    assert len(kernel.signatures) == 1, kernel.signatures

@@ -319,7 +319,10 @@ def _explain(planner: str, m: FloatArray, i: int) -> None:
 
 def _sync_codes(sync: object, ndof: int, count: int) -> tuple[np.ndarray, tuple]:
     codes, names = limited.read_sync(sync, ndof)
-    return np.ascontiguousarray(np.broadcast_to(codes, (count, ndof))), names
+    # A copy, always: for one problem the broadcast view is already contiguous, and
+    # ascontiguousarray would hand the kernel that read-only view, a type it has not
+    # been compiled for (a minute's compilation for a one-problem batch).
+    return np.broadcast_to(codes, (count, ndof)).copy(), names
 
 
 def _plan(
