@@ -90,21 +90,27 @@ def _ruckig_draw(rng: np.random.Generator, count: int, ndof: int) -> dict[str, n
     return p
 
 
-@pytest.mark.parametrize("ndof", [1, 3])
-def test_durations_and_end_states_match_ruckigs_velocity_interface(ndof: int) -> None:
+def _ruckig_plans(p: dict[str, np.ndarray]):
+    """``(i, ruckig's trajectory)`` for every problem of ``p`` ruckig's velocity interface plans."""
     ruckig = pytest.importorskip("ruckig", reason="ruckig (test oracle) is not installed")
-    p = _ruckig_draw(np.random.default_rng(31 + ndof), 400, ndof)
+    ndof = p["v0"].shape[1]
     otg, inp, out = ruckig.Ruckig(ndof), ruckig.InputParameter(ndof), ruckig.Trajectory(ndof)
     inp.control_interface = ruckig.ControlInterface.Velocity
-    compared = 0
+    inp.max_velocity = np.full(ndof, 1e3)
     for i in range(len(p["v0"])):
         inp.current_position = p["q0"][i]
         inp.current_velocity, inp.current_acceleration = p["v0"][i], p["a0"][i]
         inp.target_velocity, inp.target_acceleration = p["vf"][i], p["af"][i]
-        inp.max_velocity = np.full(ndof, 1e3)
         inp.max_acceleration, inp.max_jerk = p["A"][i], p["J"][i]
-        if otg.calculate(inp, out) != ruckig.Result.Working:
-            continue
+        if otg.calculate(inp, out) == ruckig.Result.Working:
+            yield i, out
+
+
+@pytest.mark.parametrize("ndof", [1, 3])
+def test_durations_and_end_states_match_ruckigs_velocity_interface(ndof: int) -> None:
+    p = _ruckig_draw(np.random.default_rng(31 + ndof), 400, ndof)
+    compared = 0
+    for i, out in _ruckig_plans(p):
         tr = tk.velocity_change(
             p["v0"][i], p["vf"][i], p["A"][i], p["J"][i],
             q0=p["q0"][i], a0=p["a0"][i], af=p["af"][i],
@@ -167,29 +173,18 @@ def test_a_batch_plans_each_problem_as_the_single_planner_does(ndof: int) -> Non
 
 
 def test_a_batch_reaches_ruckigs_durations_and_end_states() -> None:
-    ruckig = pytest.importorskip("ruckig", reason="ruckig (test oracle) is not installed")
     ndof = 3
     p = _ruckig_draw(np.random.default_rng(5), 300, ndof)
     plans = _many(p)
-    ends = plans.evaluate(plans.durations.max() + 1.0, 0) - 0.0  # past the end: coasting
-    otg, inp, out = ruckig.Ruckig(ndof), ruckig.InputParameter(ndof), ruckig.Trajectory(ndof)
-    inp.control_interface = ruckig.ControlInterface.Velocity
+    ends = plans.evaluate(plans.durations.max() + 1.0, 0)  # clamped: each problem's end
     compared = 0
-    for i in range(300):
-        inp.current_position = p["q0"][i]
-        inp.current_velocity, inp.current_acceleration = p["v0"][i], p["a0"][i]
-        inp.target_velocity, inp.target_acceleration = p["vf"][i], p["af"][i]
-        inp.max_velocity = np.full(ndof, 1e3)
-        inp.max_acceleration, inp.max_jerk = p["A"][i], p["J"][i]
-        if otg.calculate(inp, out) != ruckig.Result.Working:
-            continue
+    for i, out in _ruckig_plans(p):
         assert plans.durations[i] == pytest.approx(out.duration, rel=DURATION_RTOL, abs=1e-14)
         position, _, _ = out.at_time(out.duration)
         scale = np.abs(p["q0"][i]).max() + 1.0 + np.abs(p["vf"][i]).max() * out.duration
         np.testing.assert_allclose(plans.info["end_position"][i], position, atol=1e-9 * scale)
-        # Evaluated past its end, a problem coasts on at its target velocity (and af = 0
-        # there is the acceleration the Trajectory reports).
-        assert np.all(np.isfinite(ends[i]))
+        # Evaluated past its duration, a problem stays at its exact end state.
+        np.testing.assert_array_equal(ends[i], plans.info["end_position"][i])
         compared += 1
     assert compared >= 290
 
