@@ -542,6 +542,101 @@ def test_already_in_the_target_state_takes_no_time():
     assert tr.duration == 0.0
 
 
+@pytest.mark.parametrize("sync", ["time", None])
+@pytest.mark.parametrize(
+    ("q", "speed", "amax"),
+    [(1.0, 0.875, 0.01), (-3.0, 2.0, 0.5), (1e3, 1.0, 1e-4), (0.0, 0.875, 0.01)],
+)
+def test_standing_in_the_target_state_at_the_speed_limit_keeps_the_velocity(q, speed, amax,
+                                                                            sync):  # fmt: skip
+    # A found case (hypothesis): at vmax the peak of the fastest profile rounds up by a
+    # unit, so it accelerates for 1e-14 s and moves 2e-14 rad too far. Landing that
+    # "rounding" miss on the velocity took -1.75 rad/s off it: the move started at
+    # -0.885 rad/s for a start velocity of 0.875. The miss now stays in the position.
+    tr = tk.trapezoidal([q], [q], speed, amax, v0=speed, vf=speed, sync=sync)
+    assert tr.duration < 1e-12
+    limits = tk.Limits(velocity=speed, acceleration=amax)
+    assert tr.check(limits).ok, tr.check(limits).violations
+    t = np.linspace(0.0, tr.duration, 5)
+    np.testing.assert_allclose(tr.velocity(t), speed, rtol=1e-12)
+    np.testing.assert_allclose(tr.position(t), q, rtol=0, atol=1e-12 * max(1.0, abs(q)))
+    assert tr.start_state.velocity[0] == speed and tr.end_state.velocity[0] == speed
+
+
+def test_standing_still_at_a_velocity_limit_leaves_room_for_the_long_way_round():
+    # Found by hypothesis: joint 1 stands in its target state at its lower velocity
+    # limit, joint 2 needs 2.7e6 s. Joint 1 can take no duration between 0 and the
+    # 5.3e6 s of braking, coasting back at +0.01 rad/s and returning: three formulas
+    # found "stand still" and filled the candidates' room before that profile was
+    # tried, so nothing was blocked, and step 2 failed at 2.7e6 s.
+    vmax, amax = ((-25.0, -25.0), (0.01, 0.01)), 0.01171875
+    tr = tk.trapezoidal([0.0, 0.0], [0.0, 0.0], vmax, amax, v0=[-25.0, 0.0], vf=[-25.0, -25.0])
+    around = 2 * (25.01 / amax) + (25.0**2 / amax) / 0.01 - 0.01 / amax  # ramps + coast
+    assert tr.duration == pytest.approx(around, rel=1e-12)
+    assert tr.info["minimum_durations"][0] == 0.0
+    assert tr.check(tk.Limits(velocity=vmax, acceleration=amax)).ok
+    np.testing.assert_allclose(tr.end_state.velocity, [-25.0, -25.0], rtol=1e-12)
+    np.testing.assert_allclose(tr.position(tr.duration), [0.0, 0.0], atol=1e-8)
+
+
+@pytest.mark.parametrize("side", [-1.0, 1.0])
+@pytest.mark.parametrize(("speed", "back", "amax"), [(25.0, 0.01, 0.01171875), (27.0, 0.01, 0.01),
+                                                     (1.0, 0.5, 2.0), (3.0, 3.0, 0.25)])
+def test_standing_at_either_velocity_limit_synchronizes_the_long_way_round(side, speed, back,
+                                                                           amax):  # fmt: skip
+    # The family of the case above, on both sides and with a partner needing less time
+    # than the long way round: brake to the other limit, coast back, speed up again.
+    low, high = (-speed, back) if side < 0 else (-back, speed)
+    vmax = ((low, low), (high, high))
+    v = side * speed
+    tr = tk.trapezoidal([0.0, 0.0], [0.0, 0.0], vmax, amax, v0=[v, 0.0], vf=[v, v])
+    ramp = (speed + back) / amax
+    coast = ((speed - back) * (speed + back) / amax) / back
+    assert tr.duration == pytest.approx(2 * ramp + coast, rel=1e-11)
+    assert tr.check(tk.Limits(velocity=vmax, acceleration=amax)).ok
+    np.testing.assert_allclose(tr.velocity(tr.duration), [v, v], rtol=1e-12)
+    np.testing.assert_allclose(tr.position(tr.duration), [0.0, 0.0], atol=1e-8)
+    alone = tk.trapezoidal([0.0], [0.0], (low, high), amax, v0=v, vf=v)
+    assert alone.duration == 0.0  # in the target state already: nothing to do
+
+
+@pytest.mark.parametrize("law", ["trapezoid", "scurve"])
+@pytest.mark.parametrize("v0", [0.0, 5e-324, -1e-310, 0.7])
+@pytest.mark.parametrize("vf", [0.0, 5e-324, -1e-310, 0.5])
+@pytest.mark.parametrize("qf", [0.0, 5e-324, 1.0])
+def test_subnormal_boundary_velocities_end_exactly(law, v0, vf, qf):
+    # Found by hypothesis: from rest to 5e-324 rad/s in place was "no fastest
+    # profile": the squares of such speeds underflow, and the 2.5e-324 s the change
+    # takes rounds to no time, which the engine read as a jump of the state.
+    if v0 == vf == qf == 0.0:
+        return
+    limits = tk.Limits(velocity=1.0, acceleration=(-1.0, 2.0))
+    if law == "trapezoid":
+        tr = tk.trapezoidal([0.0], [qf], 1.0, (-1.0, 2.0), v0=[v0], vf=[vf], sync=None)
+    else:
+        tr = tk.scurve([0.0], [qf], 1.0, (-1.0, 2.0), 10.0, v0=[v0], vf=[vf], sync=None)
+    assert tr.check(limits).ok
+    assert (tr.end_state.position[0], tr.end_state.velocity[0]) == (qf, vf)
+    if tr.duration > 0.0:
+        assert (tr.start_state.position[0], tr.start_state.velocity[0]) == (0.0, v0)
+    else:  # a change no duration can hold: the start is the end, one subnormal away
+        assert abs(v0 - vf) <= 5e-324 and qf == 0.0
+
+
+def test_a_long_coast_lands_its_end_state_exactly():
+    # Found by hypothesis: an 8.4e6 s move whose second joint coasts at -1.4e-13 rad/s
+    # missed its end velocity by 4.6e-8 rad/s: its last ramp, 9e-5 s at 55 rad/s^2, was
+    # placed in absolute time (1.9e-9 s apart there), since the coast's 1.7e-13 rad miss
+    # counted as a lost target instead of a rounding the velocity can take.
+    vmax = ((-41.0, -41.0), (0.01, 0.01))
+    tr = tk.trapezoidal([0.0, 0.0], [0.0, 0.0], vmax, [0.01, 55.0], v0=[-41.0, 0.01],
+                        vf=[0.005, 0.005])  # fmt: skip
+    assert tr.duration == pytest.approx(8409100.625001673, rel=1e-12)
+    assert tr.velocity(tr.duration).tolist() == [0.005, 0.005]
+    assert tr.position(tr.duration).tolist() == [0.0, 0.0]
+    assert tr.check(tk.Limits(velocity=vmax, acceleration=[0.01, 55.0])).ok
+
+
 # ------------------------------------------------------------------------- allow_overshoot
 @pytest.mark.parametrize(
     ("qf", "v0", "vf", "reaches"),
@@ -1175,8 +1270,10 @@ INVALID = [
     ({"vmax": [1.0, 2.0, 3.0]}, "vmax has 3 joints but q0 has 2"),
     ({"q0": [[0.0, 0.0]]}, "q0 must be a number or a 1-D sequence"),
     ({"q0": []}, "q0 must not be empty"),
-    ({"sync": "Time"}, "sync must be 'time', 'phase', 'time_if_necessary' or None, got 'Time'"),
-    ({"sync": "none"}, "sync must be 'time', 'phase', 'time_if_necessary' or None"),
+    (
+        {"sync": "Time"},
+        "sync must be 'time', 'phase', 'time_if_necessary', 'none' or None, got 'Time'",
+    ),
     ({"blend_ratio": 0.0}, "blend_ratio must be in (0, 0.5], got 0.0"),
     ({"blend_ratio": 0.6}, "blend_ratio must be in (0, 0.5], got 0.6"),
     ({"blend_ratio": -0.1}, "blend_ratio must be in (0, 0.5]"),

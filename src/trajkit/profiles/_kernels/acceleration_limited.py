@@ -81,7 +81,11 @@ def _accept(valid, count, limits, a_up, a_down, v_max, v_min):
     if row[T_SUM + 6] == 0.0 and (row[PF] != row[P] or row[VF] != row[V]):
         # No time to change the state: a rounding of a ramp to nothing, which the
         # position tolerance (1e-8 absolute) would accept as reaching the target.
-        return count
+        # Unless no time can: a change of velocity of 5e-324 rad/s takes less than
+        # the smallest positive duration at any finite acceleration.
+        push = max(abs(a_up), abs(a_down))
+        if not (row[PF] == row[P] and abs(row[VF] - row[V]) / push == 0.0):
+            return count
     count += 1
     if count < valid.shape[0]:
         copy_boundary(valid[count], row)
@@ -278,11 +282,13 @@ def _fastest_coast(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, polish)
         return count
     # (pd - ramp distances) / v_max, expanded as the reference writes it so that
     # rounding, and hence acceptance at the margins, stays alike.
-    t_coast = (
-        (a_min * v0 * v0 - a_max * vf * vf) / (2.0 * a_max * a_min * v_max)
-        + v_max * (a_max - a_min) / (2.0 * a_max * a_min)
-        + pd / v_max
-    )
+    first = (a_min * v0 * v0 - a_max * vf * vf) / (2.0 * a_max * a_min * v_max)
+    second = v_max * (a_max - a_min) / (2.0 * a_max * a_min)
+    t_coast = first + second + pd / v_max
+    if abs(t_coast) <= 16.0 * EPS * max(abs(first), abs(second), abs(pd / v_max)):
+        # Terms that cancel (standing at this very limit, in the target state): the
+        # coast is empty, not a rounding's worth of time (7e-13 s of 2.7e3 s terms).
+        t_coast = 0.0
     set_times(valid[count], (v_max - v0) / a_max, t_coast, (vf - v_max) / a_min, 0.0)
     if polish:
         _polish_coast(valid[count], a_max, a_min, v_max, v_min)
@@ -300,21 +306,30 @@ def _fastest_peak(valid, count, pd, v0, vf, v_max, v_min, a_max, a_min, first_on
     ``polish`` (the fallback) the peak is corrected by the position the record
     misses.
     """
-    square = (a_max * vf * vf - a_min * v0 * v0 - 2.0 * a_max * a_min * pd) / (a_max - a_min)
-    if not square >= 0.0:
-        return count
-    peak = math.sqrt(square)
+    if pd == 0.0 and (v0 != 0.0 or vf != 0.0):
+        # The velocities alone, in a unit of their own: the squares of 1e-310 rad/s
+        # underflow to 0 (scaling by a power of two leaves every other case exact).
+        unit = power_of_two(max(abs(v0), abs(vf)))
+        r0, rf = v0 / unit, vf / unit
+        square = (a_max * rf * rf - a_min * r0 * r0) / (a_max - a_min)
+        if not square >= 0.0:
+            return count
+        peak = unit * math.sqrt(square)
+    else:
+        square = (a_max * vf * vf - a_min * v0 * v0 - 2.0 * a_max * a_min * pd) / (a_max - a_min)
+        if not square >= 0.0:
+            return count
+        peak = math.sqrt(square)
     for sign in (-1.0, 1.0):
         if count >= valid.shape[0]:
             return count
         v_peak = sign * peak
-        if polish:
-            # A peak within rounding of a boundary velocity is that velocity: its
-            # ramp is empty, not a rounding's worth of the wrong sign.
-            if abs(v_peak - v0) <= 4.0 * EPS * max(abs(v_peak), abs(v0)):
-                v_peak = v0
-            elif abs(v_peak - vf) <= 4.0 * EPS * max(abs(v_peak), abs(vf)):
-                v_peak = vf
+        # A peak within rounding of a boundary velocity is that velocity: its ramp is
+        # empty, not a rounding's worth of time (2e-14 s at a limit it rounds past).
+        if abs(v_peak - v0) <= 4.0 * EPS * max(abs(v_peak), abs(v0)):
+            v_peak = v0
+        elif abs(v_peak - vf) <= 4.0 * EPS * max(abs(v_peak), abs(vf)):
+            v_peak = vf
         set_times(valid[count], (v_peak - v0) / a_max, 0.0, (vf - v_peak) / a_min, 0.0)
         if polish:
             _polish_ramps(valid[count], math.inf, a_max, a_min, NONE, v_max, v_min)
@@ -433,9 +448,37 @@ def fastest(prof, v_max, v_min, a_max, a_min, valid, block, block_times):
     if v_max == 0.0 and v_min == 0.0:
         return _zero_velocity_limits(prof, v_max, v_min, block, block_times)
     count = fastest_candidates(prof, v_max, v_min, a_max, a_min, valid)
-    if calculate_block(valid, count, block, block_times):
+    if calculate_block(valid, count, block, block_times) and not _lone_standstill(
+        prof, block_times
+    ):
         return True
-    return _fastest_fallback(prof, v_max, v_min, a_max, a_min, valid, block, block_times)
+    if not _fastest_fallback(prof, v_max, v_min, a_max, a_min, valid, block, block_times):
+        return False
+    if _lone_standstill(prof, block_times):
+        # No other profile at all (the speed limit allows no coming back): every
+        # longer duration is blocked.
+        block_times[1] = block_times[0]
+        block_times[2] = math.inf
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _lone_standstill(prof, block_times):
+    """Already in a moving target state, and no duration found blocked.
+
+    Every duration above zero then needs the long way round (brake, come back,
+    speed up again), so the durations below it are blocked: a missing profile, not
+    a free choice. The reference's closed form can lose it to rounding (a 5e6 s
+    coast back at 0.01 rad/s after braking from 25 rad/s misses by 3e-8 rad).
+    """
+    if prof[VF] == 0.0 or prof[VF] != prof[V] or block_times[0] != 0.0:
+        return False
+    # Standing still can be the minimum and the left end of a blocked interval at
+    # once; an interval of no length blocks nothing.
+    for k in (1, 3):
+        if not math.isinf(block_times[k]) and block_times[k + 1] > block_times[k]:
+            return False
+    return True
 
 
 @njit(cache=True, error_model="numpy")

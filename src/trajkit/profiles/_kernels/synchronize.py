@@ -284,13 +284,25 @@ def _scaled(x, factor, inverse):
 
 
 @njit(cache=True, error_model="numpy")
-def _jumps(minimum, p0, v0, a0, pf, vf, af):
+def _jumps(minimum, p0, v0, a0, pf, vf, af, a_max, a_min, j_max):
     """Whether a joint's fastest profile (``minimum`` s long) takes no time to change the state.
 
     The laws accept moves below their absolute precision (1e-8) as done at once; in
-    the move's own units they get a true profile.
+    the move's own units they get a true profile. A change of velocity alone that no
+    positive duration can hold (5e-324 rad/s at 2 rad/s^2 and no jerk limit takes
+    2.5e-324 s, which rounds to 0) is no jump: taking no time is its exact answer in
+    float64.
     """
-    return minimum == 0.0 and (pf != p0 or vf != v0 or af != a0)
+    if minimum != 0.0:
+        return False
+    if pf == p0 and af == a0:
+        change = abs(vf - v0)
+        time = change / max(a_max, -a_min)
+        if math.isfinite(j_max):
+            time = max(time, math.sqrt(change / j_max))
+        if time == 0.0:
+            return False
+    return pf != p0 or vf != v0 or af != a0
 
 
 @njit(cache=True, error_model="numpy")
@@ -329,7 +341,7 @@ def _step1(
             return True
         return _step1_in_place(prof, args, valid, block, block_times)
     if _step1_raw(prof, *args, valid, block, block_times) and not _jumps(
-        block_times[0], p0, v0, a0, pf, vf, af
+        block_times[0], p0, v0, a0, pf, vf, af, a_max, a_min, j_max
     ):
         return True
     if scaled and _step1_in_units(prof, tau, lam, args, valid, block, block_times):
@@ -468,7 +480,7 @@ def _step1_in_units(prof, tau, lam, args, valid, block, block_times):
         _rescale(block[k], tau, lam, 0.0, p0)
     for k in range(5):
         block_times[k] *= tau
-    return found and not _jumps(block_times[0], p0, v0, a0, pf, vf, af)
+    return found and not _jumps(block_times[0], p0, v0, a0, pf, vf, af, a_max, a_min, j_max)
 
 
 @njit(cache=True, error_model="numpy")

@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit, prange
 
 from trajkit.profiles._kernels.layout import BRAKE_A, BRAKE_J, BRAKE_T, A, J, T
-from trajkit.profiles._kernels.profile import integrate
+from trajkit.profiles._kernels.profile import P_PRECISION, integrate
 
 PHASES = 9  # two brake phases, seven profile phases
 # Breakpoints closer than this (relative to the duration) are one switch computed
@@ -333,21 +333,30 @@ ROUNDING_MISS_RTOL = 1e-12
 def _land(pf, t, u, second_order, starts, states):
     """Absorb a rounding-level miss of ``pf`` in the velocity of the longest phase.
 
-    Returns False where the phases miss ``pf`` by more than rounding.
+    Returns False where the phases miss ``pf`` by more than rounding (or than the
+    laws' precision), or where taking it would change a velocity by more than its
+    own rounding.
 
     Integrating the phases accumulates rounding over long phases (1e-9 rad after a
     1e6 s coast that began at 16 rad/s); the longest phase's velocity takes the
-    correction (by 1e-15 rad/s there), and the phases after it end on ``pf``.
+    correction (by 1e-15 rad/s there), and the phases after it end on ``pf``. The
+    first phase starts in the boundary state, which stays exact: the longest of the
+    others takes it (none: nothing lands).
     """
-    longest = 0
+    longest = -1
+    first = -1
     size = 0.0
+    speed = 0.0
     last = -1
     for k in range(PHASES):
         if t[k] > 0.0:
             last = k
-            if t[k] > t[longest]:
+            if first < 0:
+                first = k
+            elif longest < 0 or t[k] > t[longest]:
                 longest = k
             size = max(size, abs(states[k, 0]), abs(states[k, 1]) * t[k])
+            speed = max(speed, abs(states[k, 1]), abs(states[k, 2]) * t[k])
     if last < 0:
         return True
     p, v, a, j = states[last, 0], states[last, 1], states[last, 2], states[last, 3]
@@ -355,9 +364,20 @@ def _land(pf, t, u, second_order, starts, states):
     miss = pf - (p + tk * (v + tk * (a / 2.0 + tk * j / 6.0)))
     if miss == 0.0:
         return True
-    if not abs(miss) <= ROUNDING_MISS_RTOL * (size + abs(pf)):
+    if longest < 0:
         return False
-    states[longest, 1] += miss / t[longest]
+    # A miss the laws accept (their absolute precision) or a rounding of the positions;
+    # an 8e6 s coast at -1.4e-13 rad/s misses by 1.7e-13 rad, above the rounding of its
+    # 2e-6 rad excursion but far inside the 1e-8 rad the law accepted.
+    if not abs(miss) <= max(ROUNDING_MISS_RTOL * (size + abs(pf)), P_PRECISION):
+        return False
+    correction = miss / t[longest]
+    # The velocity must take a rounding of itself, too: a move of 2e-14 s planned at
+    # 0.875 rad/s (a peak rounded up by one unit) misses by 2e-14 rad, rounding for the
+    # positions, but would need -1.75 rad/s of correction.
+    if not abs(correction) <= ROUNDING_MISS_RTOL * speed:
+        return False
+    states[longest, 1] += correction
     tl = t[longest]
     p, v, a, j = states[longest, 0], states[longest, 1], states[longest, 2], states[longest, 3]
     _integrate_from(
