@@ -24,11 +24,12 @@ FLOORS = {
     "core": (
         "trajkit._poly", "trajkit._validation", "trajkit._periods", "trajkit.errors",
         "trajkit.limits", "trajkit.trajectory", "trajkit.samples", "trajkit.rotations",
-        "trajkit.io.atomic", "trajkit.io.table", "trajkit.progress",
+        "trajkit.io.atomic", "trajkit.io.table", "trajkit.progress", "trajkit.tolerances",
     ),
     "domain": (
         "trajkit.profiles", "trajkit.time_optimal", "trajkit.kinematics", "trajkit.taskspace",
         "trajkit.mobile", "trajkit.sim", "trajkit.batch", "trajkit.online", "trajkit.analysis",
+        "trajkit.planners",
     ),
     "outputs": ("trajkit.viz", "trajkit.io"),
     "orchestration": ("trajkit.scenario", "trajkit.sweep", "trajkit.demo", "trajkit.examples"),

@@ -399,7 +399,8 @@ INVALID = [
     ({"vmax": (-1.0, 1.0, 2.0)}, "vmax given as a tuple must be (lower, upper)"),
     ({"vmax": None}, "vmax is required"),
     ({"amax": float("inf")}, "amax must be finite"),
-    ({"sync": "phases"}, "sync must be 'time', 'phase', 'time_if_necessary' or None, got 'phases'"),
+    ({"sync": "phases"},
+     "sync must be 'time', 'phase', 'time_if_necessary', 'none' or None, got 'phases'"),
     ({"dt": 0.0}, "dt must be > 0"),
     ({"dt": -1.0}, "dt must be > 0"),
 ]  # fmt: skip

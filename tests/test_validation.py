@@ -62,7 +62,7 @@ def test_ragged_sequences_are_refused_by_name(call: Any, name: str) -> None:
 def test_sync_given_as_an_array_is_refused_by_name(call: Any) -> None:
     # `sync not in (...)` compared the array elementwise: "truth value is ambiguous".
     expected = (
-        r"^sync must be one of \('time', 'phase', 'time_if_necessary', None\) "
+        r"^sync must be one of \('time', 'phase', 'time_if_necessary', 'none', None\) "
         r"or a sequence of them per joint, got array\("
     )
     with pytest.raises(tk.InvalidInputError, match=expected):

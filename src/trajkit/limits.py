@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, as_float_array, finite_array, positive_scalar
 from trajkit.errors import InvalidInputError
+from trajkit.tolerances import LIMIT_RTOL
 
 if TYPE_CHECKING:
     from trajkit.trajectory import Extrema, Trajectory
@@ -312,7 +313,7 @@ class Report:
 TIME_ULPS = 8.0
 
 
-def check(trajectory: Trajectory, limits: Limits, *, rtol: float = 1e-9) -> Report:
+def check(trajectory: Trajectory, limits: Limits, *, rtol: float = LIMIT_RTOL) -> Report:
     """Verify ``limits`` on ``trajectory`` exactly, from its polynomial pieces.
 
     The extrema of every piece come from the roots of the next derivative, so an

@@ -19,7 +19,11 @@ from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import atomic_write
 from trajkit.io.table import write_csv
 
-__all__ = ["Samples"]
+__all__ = ["DEFAULT_STEP", "Samples"]
+
+#: The sampling step (s) of data files when the user names neither a step nor a
+#: controller period: the command line, scenario files and sweeps all use it.
+DEFAULT_STEP = 0.01
 
 _FIELDS = ("q", "qd", "qdd", "qddd")
 _SUFFIX = ("", "_vel", "_acc", "_jerk")  # CSV column suffix of each derivative order

@@ -24,6 +24,7 @@ from trajkit._validation import (
     positive_scalar,
 )
 from trajkit.errors import ContinuityWarning, InvalidInputError
+from trajkit.tolerances import BOUNDARY_ATOL, BOUNDARY_RTOL, JUMP_RTOL
 
 if TYPE_CHECKING:
     from trajkit.limits import Limits, Report
@@ -32,17 +33,6 @@ if TYPE_CHECKING:
 __all__ = ["Extrema", "State", "Trajectory"]
 
 _QUANTITY = ("position", "velocity", "acceleration", "jerk")
-
-# A jump at a breakpoint smaller than this, relative to the size of the terms that
-# make up the values on either side (plus 1), is rounding, not a discontinuity.
-JUMP_RTOL = 1e-9
-# How far an exact boundary state given to the constructor may differ from the
-# polynomial's own value there: relative to the size of that derivative's terms in the
-# whole motion and of the state itself, plus a floor of a nanometre or nanoradian for
-# motions that are tiny everywhere. Rounding of the planner's arithmetic, never a
-# different motion (5e-7 is not 1e-9 "up to rounding").
-_BOUNDARY_RTOL = 1e-6
-_BOUNDARY_ATOL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -245,7 +235,7 @@ class Trajectory:
                 product = np.where(every == 0.0, 0.0, np.abs(every) * powers[..., np.newaxis])
                 scale = product.sum(axis=0).max(axis=0) + np.abs(row)  # inf near 1e308
             values.append(value)
-            miss = np.abs(row - value) > _BOUNDARY_RTOL * scale + _BOUNDARY_ATOL
+            miss = np.abs(row - value) > BOUNDARY_RTOL * scale + BOUNDARY_ATOL
             misses.append(miss)  # NaN: no miss
         return np.array(values), np.array(misses)
 

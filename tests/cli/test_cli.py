@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import errno
 import os
 import subprocess
@@ -13,6 +14,7 @@ import pytest
 import trajkit as tk
 from trajkit import cli
 from trajkit.cli import main
+from trajkit.planners import CATALOG
 
 
 def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
@@ -35,7 +37,7 @@ def test_plan_cubic_degrees_prints_exact_minimum_and_writes_files(tmp_path, caps
     samples = tk.Samples.from_csv(csv)
     assert samples.t[-1] == pytest.approx(67 * 1.5 / 9, rel=1e-12)
     np.testing.assert_allclose(samples.q[-1], np.radians([67, -45]), rtol=1e-12)
-    assert np.allclose(np.diff(samples.t)[:-1], 0.002)
+    assert np.allclose(np.diff(samples.t)[:-1], 0.01)  # samples.DEFAULT_STEP
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["move.csv", "move.png"]
 
@@ -51,7 +53,7 @@ def test_plan_quintic_boundary_accelerations(capsys, tmp_path):
     csv = tmp_path / "q.csv"
     status, _, err = run(
         capsys, "plan", "quintic", "--q0", "0", "--qf", "1", "--duration", "2",
-        "--a0", "0.5", "--af", "-0.25", "--csv", str(csv), "--dt", "0.5",
+        "--a0", "0.5", "--af", "-0.25", "--csv", str(csv), "--sample-step", "0.5",
     )  # fmt: skip
     assert status == 0, err
     samples = tk.Samples.from_csv(csv)
@@ -72,12 +74,14 @@ def test_plan_quintic_boundary_accelerations(capsys, tmp_path):
         (["plan", "cubic", "--q0", "0", "0", "--qf", "1", "1", "1", "--duration", "1"],
          "qf has 3 joints but q0 has 2"),
         (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--a0", "1"],
-         "--a0/--af need a quintic, septic or scurve profile"),
+         "--a0 applies to the quintic, septic and scurve planners, not cubic"),
         (["plan", "cubic", "--qf", "1", "--duration", "1"], "plan needs --q0 and --qf"),
         (["plan", "cubic", "--q0", "x", "--qf", "1"], "expected numbers"),
         (["plan", "trapezium", "--q0", "0", "--qf", "1"], "invalid choice"),
-        (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--dt", "0"],
-         "dt must be > 0"),
+        (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--sample-step", "0"],
+         "--sample-step must be a time > 0 s, got 0"),
+        (["plan", "cubic", "--q0", "0", "--qf", "1", "--duration", "1", "--dt", "0.1"],
+         "--dt is now two flags: --period (the controller period"),
     ],
 )  # fmt: skip
 def test_errors_are_one_line_with_status_2(argv, message, capsys, tmp_path):
@@ -140,27 +144,20 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     status, out, err = run(capsys, "demo", "--out", str(out_dir))
     assert status == 0, err
     names = sorted(p.name for p in out_dir.iterdir())
+    # The scenarios' own outputs are in scenarios/; the worked examples add only what
+    # the scenarios do not write: no example is written twice.
     expected = {
-        "seed000_cubic.csv", "seed000_cubic.png",
-        "seed003_arm_task.png", "seed003_arm_joints.png", "seed003_arm_arm.png",
-        "seed003_arm_joints.csv",
         "seed003_time_optimal_joints.png", "seed003_time_optimal_joints.csv",
         "seed003_time_optimal_jerk_limited_joints.png",
         "seed003_time_optimal_jerk_limited_joints.csv",
-        "seed002_arm_task.png", "seed002_arm_joints.png", "seed002_arm_arm.png",
-        "seed002_arm_joints.csv",
-        "seed004_example1.csv", "seed004_example1.png",
-        "seed004_example2.csv", "seed004_example2.png",
         "summary.txt",
     }  # fmt: skip
     for profile in ("trapezoid", "scurve"):
         for sync in ("phase", "time"):
             for suffix in ("", "_dt"):
-                stem = f"seed001_{profile}_{sync}{suffix}"
-                expected |= {f"{stem}.png", f"{stem}.csv"}
+                expected.add(f"seed001_{profile}_{sync}{suffix}.png")
     mobile_stems = [
-        "seed000_jackal_twist_spin", "seed000_jackal_twist_arc",
-        "seed000_jackal_goto", "seed000_jackal_goto_10hz",
+        "seed000_jackal_goto_10hz",
         *(f"seed002_figure8_{name}" for name in
           ("feedforward", "kanayama", "feedback_linearization", "pure_pursuit")),
     ]  # fmt: skip
@@ -177,12 +174,13 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
             expected |= {f"{stem}_frame{i}.png" for i in range(3)}
     assert set(names) == expected
     assert not [name for name in names if name.startswith(".")]  # no temporaries left
-    assert "piece 1: [0, 0, 1.3, -0.8]" in out
-    assert "piece 2: [0.55, -0.375, 0.4, -0.075]" in out
+    # The via-point polynomials are the seed004 scenarios' own lines.
+    assert "piece 1: a0..a3 = [0.0, 0.0, 1.3, -0.8]" in out
+    assert "piece 2: a0..a3 = [0.55, -0.375, 0.4, -0.075]" in out
     assert "exact common minimum duration 11.1666666667 s" in out
     assert "11 s breaks the velocity limit: joint 1" in out
     summary = (out_dir / "summary.txt").read_text()
-    assert "piece 2: [0.55, -0.375, 0.4, -0.075]" in summary
+    assert "the hand solution's 6 s breaks the velocity limit" in summary
     from trajkit import scenario
 
     scenario_files = sorted(p.name for p in (out_dir / "scenarios").iterdir())
@@ -191,18 +189,18 @@ def test_demo_writes_every_output_and_reports_exact_values(tmp_path, capsys):
     assert f"wrote {len(names) - 1 + len(scenario_files)} files" in out
     assert "open " in out and "index.html" in out
     assert "trapezoid, sync=phase, continuous: duration 14.6071428571 s, limits OK" in out
-    assert "trapezoid, sync=phase, dt 2 ms: duration 14.608 s, limits OK" in out
-    assert "scurve, sync=time, dt 2 ms: duration 14.858 s, limits OK" in out
+    assert "trapezoid, sync=phase, on 2 ms ticks: duration 14.608 s, limits OK" in out
+    assert "scurve, sync=time, on 2 ms ticks: duration 14.858 s, limits OK" in out
     assert "drive to the goal: minimum duration 32.3941772 s" in out
     assert "the hand value 32 s breaks the limit" in out
     assert "ends at (0.286479 m, 1.06915 m, 2.61799 rad)" in out
     assert "feedback linearization: RMS error" in out
-    assert "seed 003 3-DOF arm, cubic line" in out and "OK" in out
-    assert "seed 002 two-link arm" in out
+    assert "seed 003 3-DOF spatial arm, cubic line in 10 s: FK of the joint trajectory" in out
+    assert "linear ellipse on planar 2R in 5 s: path error" in out
     assert "position servo with gravity compensation: max error 0.963° / 0.649°" in out
     assert "computed torque (ω = 30 rad/s): max error 0.000106° / 7.14e-05°" in out
     assert "kanayama at 50 Hz: ends at (4.9998 m, 3.0000 m, 1.5021 rad)" in out
-    seed000 = tk.Samples.from_csv(out_dir / "seed000_cubic.csv")
+    seed000 = tk.Samples.from_csv(out_dir / "scenarios" / "seed000_rrbot_cubic.csv")
     assert seed000.t[-1] == pytest.approx(11.1666666666666667, rel=1e-12)
 
 
@@ -211,13 +209,13 @@ def test_plan_trapezoid_phase_sync_on_controller_period(capsys, tmp_path):
     status, out, err = run(
         capsys, "plan", "trapezoid", "--q0", "0", "--qf", "90,75,60,45,30,15",
         "--vmax", "7,7,7,3.5,3.5,3.5", "--amax", "4,4,4,2,2,2", "--deg",
-        "--sync", "phase", "--dt", "0.002", "--csv", str(csv),
+        "--sync", "phase", "--period", "0.002", "--csv", str(csv),
     )  # fmt: skip
     assert status == 0, err
     first = out.splitlines()[0]
     assert first == (
         "trapezoid move: 6 joint(s), duration 14.608 s, sync=phase, "
-        "switching on multiples of dt=0.002 s"
+        "switching on multiples of period=0.002 s"
     )
     assert "1.75 11.108 1.75" in out  # every joint's rise, coast and fall
     assert "limit check (SI units): OK" in out
@@ -236,8 +234,14 @@ def test_plan_trapezoid_time_sync_names_limiting_joint(capsys):
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--vmax", "1"], "trapezoidal needs vmax and amax"),
-        (["--vmax", "1", "--amax", "1", "--jmax", "3"], "--jmax does not apply to a trapezoid"),
+        (
+            ["--vmax", "1"],
+            "--amax is required by the trapezoid planner (it needs --vmax and --amax)",
+        ),
+        (
+            ["--vmax", "1", "--amax", "1", "--jmax", "3"],
+            "--jmax applies to the cubic, quintic, septic and scurve planners, not trapezoid",
+        ),
         (["--vmax", "1", "--amax", "1", "--duration", "0.5"], "below the minimum 2 s"),
         (["--vmax", "1", "--amax", "1", "--vf", "2"], "vf=2 rad/s is beyond the velocity limit"),
     ],
@@ -252,12 +256,12 @@ def test_plan_trapezoid_errors(argv, message, capsys):
 def test_plan_scurve_on_controller_period(capsys):
     status, out, err = run(
         capsys, "plan", "scurve", "--q0", "0", "--qf", "1,2", "--vmax", "1", "--amax", "2",
-        "--jmax", "10", "--dt", "0.002",
+        "--jmax", "10", "--period", "0.002",
     )  # fmt: skip
     assert status == 0, err
     assert out.splitlines()[0] == (
         "scurve move: 2 joint(s), duration 2.7 s (set by joint 2), sync=time, "
-        "switching on multiples of dt=0.002 s"
+        "switching on multiples of period=0.002 s"
     )
     assert "0.2 0.3 0.2 1.3 0.2 0.3 0.2" in out
     assert "limit check (SI units): OK" in out
@@ -266,7 +270,10 @@ def test_plan_scurve_on_controller_period(capsys):
 def test_plan_scurve_needs_all_three_limits(capsys):
     status, _, err = run(capsys, "plan", "scurve", "--q0", "0", "--qf", "1", "--vmax", "1")
     assert status == 2
-    assert "amax and jmax are required: scurve needs vmax, amax and jmax" in err
+    assert (
+        "--amax and --jmax are required by the scurve planner (it needs --vmax, --amax "
+        "and --jmax)" in err
+    )
 
 
 SCURVE_ARGS = ("--q0", "0,0.5", "--qf", "1,-0.5", "--vmax", "1", "--amax", "2")
@@ -283,21 +290,22 @@ SCURVE_ARGS = ("--q0", "0,0.5", "--qf", "1,-0.5", "--vmax", "1", "--amax", "2")
         ("scurve", ["--sync", "time_if_necessary"], {"sync": "time_if_necessary"}),
         ("trapezoid", ["--sync", "time_if_necessary", "--vf", "0.2,0"],
          {"sync": "time_if_necessary", "vf": [0.2, 0.0]}),
-        ("scurve", ["--grid", "duration", "--dt", "0.01"], {"grid": "duration", "dt": 0.01}),
-        ("trapezoid", ["--grid", "duration", "--dt", "0.01", "--min-duration", "2.345"],
+        ("scurve", ["--grid", "duration", "--period", "0.01"], {"grid": "duration", "dt": 0.01}),
+        ("trapezoid", ["--grid", "duration", "--period", "0.01", "--min-duration", "2.345"],
          {"grid": "duration", "dt": 0.01, "min_duration": 2.345}),
-        ("scurve", ["--grid", "switches", "--dt", "0.01"], {"grid": "switches", "dt": 0.01}),
+        ("scurve", ["--grid", "switches", "--period", "0.01"], {"grid": "switches", "dt": 0.01}),
     ],
 )  # fmt: skip
 def test_plan_trapezoid_and_scurve_options_reach_the_planner(profile, argv, kwargs, capsys,
                                                              monkeypatch):  # fmt: skip
-    planned, original = [], cli.PLANNERS[profile]
+    entry = CATALOG[profile]
+    planned = []
 
     def spy(*args, **options):
-        planned.append(original(*args, **options))
+        planned.append(entry.law(*args, **options))
         return planned[-1]
 
-    monkeypatch.setitem(cli.PLANNERS, profile, spy)
+    monkeypatch.setitem(CATALOG, profile, dataclasses.replace(entry, law=spy))
     jerk = ["--jmax", "10"] if profile == "scurve" else []
     status, out, err = run(capsys, "plan", profile, *SCURVE_ARGS, *jerk, *argv)
     assert status == 0, err
@@ -312,25 +320,25 @@ def test_plan_trapezoid_and_scurve_options_reach_the_planner(profile, argv, kwar
     np.testing.assert_allclose(planned[0].position(t), direct.position(t), rtol=0, atol=1e-12)
     assert f"duration {direct.duration:.9g} s" in out
     if kwargs.get("grid") == "duration":
-        assert "duration a multiple of dt=0.01 s" in out.splitlines()[0]
+        assert "duration a multiple of period=0.01 s" in out.splitlines()[0]
 
 
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
         (["cubic", "--duration", "1", "--min-duration", "2"],
-         "--min-duration applies to trapezoid and scurve profiles, not cubic"),
-        (["quintic", "--duration", "1", "--grid", "duration", "--dt", "0.01"],
-         "--grid applies to trapezoid and scurve profiles, not quintic"),
+         "--min-duration applies to the trapezoid and scurve planners, not cubic"),
+        (["quintic", "--duration", "1", "--grid", "duration", "--period", "0.01"],
+         "--grid applies to the trapezoid and scurve planners, not quintic"),
         (["trapezoid", "--vmax", "1", "--amax", "2", "--a0", "0.1"],
-         "--a0/--af need a quintic, septic or scurve profile, not trapezoid"),
+         "--a0 applies to the quintic, septic and scurve planners, not trapezoid"),
         (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--duration", "3",
           "--min-duration", "2"],
          "give --duration (exact) or --min-duration (a floor), not both"),
         (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--min-duration", "0"],
          "min_duration must be > 0"),
         (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--grid", "duration"],
-         "--grid needs --dt"),
+         "--grid needs --period"),
         (["scurve", "--vmax", "1", "--amax", "2", "--jmax", "10", "--grid", "ticks"],
          "argument --grid: invalid choice: 'ticks'"),
         (["trapezoid", "--vmax", "1", "--amax", "2", "--sync", "sometimes"],
@@ -386,7 +394,7 @@ def test_mobile_figure8_with_a_controller_reports_tracking(capsys, tmp_path):
     csv = tmp_path / "run.csv"
     status, out, err = run(
         capsys, "mobile", "figure8", "--controller", "linearization", "--offset", "0.3", "0",
-        "20", "--dt", "0.01", "--csv", str(csv),
+        "20", "--sample-step", "0.01", "--csv", str(csv),
     )  # fmt: skip
     assert status == 0, err
     assert "feedback linearization: RMS error" in out
@@ -427,12 +435,16 @@ def test_mobile_failure_writes_no_file(capsys, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_mobile_bad_step_fails_before_any_output(capsys, tmp_path):
+@pytest.mark.parametrize(("flag", "message"), [
+    ("--sample-step", "--sample-step must be a time > 0 s, got -1"),
+    ("--dt", "--dt is now named --sample-step (the sampling and simulation step)"),
+])  # fmt: skip
+def test_mobile_bad_step_fails_before_any_output(flag, message, capsys, tmp_path):
     csv = tmp_path / "plan.csv"
-    status, out, err = run(capsys, "mobile", "twist", "10", "0.1", "10", "5", "--dt", "-1",
+    status, out, err = run(capsys, "mobile", "twist", "10", "0.1", "10", "5", flag, "-1",
                            "--csv", str(csv))  # fmt: skip
     assert status == 2 and out == ""
-    assert err == "trajkit: error: --dt must be a time > 0 s, got -1\n"
+    assert err == f"trajkit: error: {message}\n"
     assert not csv.exists()
 
 
@@ -507,8 +519,6 @@ def test_a_peak_beyond_float_range_in_degrees_is_inf_without_a_warning(capsys):
 
 def test_warnings_of_a_successful_command_are_shown_once(capsys, monkeypatch):
     import warnings
-
-    import trajkit.cli as cli
 
     def noisy(args):
         for _ in range(3):

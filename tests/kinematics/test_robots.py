@@ -287,3 +287,27 @@ def test_constructor_checks(call, message):
     with pytest.raises(InvalidInputError, match=message) as excinfo:
         call()
     assert type(excinfo.value) is InvalidInputError
+
+
+# ------------------------------------------------------------------ physical data
+def test_the_built_in_arms_carry_their_physical_data():
+    from trajkit.kinematics import UR5, Physical, RRBot
+
+    rrbot = RRBot().physical
+    assert (rrbot.link_mass, rrbot.link_radius, rrbot.damping) == (1.0, 0.05, 0.7)
+    ur5 = UR5().physical
+    assert ur5.link_mass == [3.7, 8.393, 2.33, 1.219, 1.219, 0.1879]
+    assert isinstance(ur5, Physical) and "UR5" in ur5.source
+
+
+def test_with_physical_copies_the_chain_and_keeps_its_kinematics():
+    from trajkit.kinematics import UR5, Physical
+
+    arm = UR5()
+    bare = UR5().with_physical(Physical(link_mass=2.0))
+    assert bare.physical.link_mass == 2.0 and arm.physical.link_mass != 2.0
+    q = np.linspace(-1.0, 1.0, 6)
+    np.testing.assert_array_equal(bare.fk(q), arm.fk(q))
+    with pytest.raises(InvalidInputError, match="^physical must be a trajkit.kinematics"
+                       r"\.Physical, got dict$"):  # fmt: skip
+        arm.with_physical({"link_mass": 1.0})

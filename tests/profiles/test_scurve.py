@@ -183,7 +183,7 @@ def test_info_describes_the_plan():
         (
             {"sync": "fast"},
             tk.InvalidInputError,
-            "sync must be 'time', 'phase', 'time_if_necessary' or None",
+            "sync must be 'time', 'phase', 'time_if_necessary', 'none' or None",
         ),
         ({"dt": 0}, tk.InvalidInputError, "dt must be > 0"),
         ({"qf": [1, 2, 3], "vmax": [1, 1]}, tk.InvalidInputError, "has 2 joints but qf has 3"),

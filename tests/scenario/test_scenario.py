@@ -33,7 +33,7 @@ kind = "joint_move"
 q0_deg = [0, 0]
 qf_deg = [67, -45]
 [limits]
-velocity_deg = [9, 11]
+vmax_deg = [9, 11]
 """
 
 
@@ -123,7 +123,7 @@ def test_a_joint_task_needs_no_robot_unless_simulated_or_animated(tmp_path):
 def test_degrees_are_converted_exactly():
     spec = scenario.parse(ARM.replace("qf_deg = [67, -45]", "qf_deg = [180, -90]"))
     np.testing.assert_array_equal(spec.task["qf"], [math.pi, -math.pi / 2])
-    np.testing.assert_array_equal(spec.limits["velocity"], np.radians([9, 11]))
+    np.testing.assert_array_equal(spec.limits["vmax"], np.radians([9, 11]))
 
 
 @pytest.mark.parametrize(
@@ -146,10 +146,10 @@ def test_degrees_are_converted_exactly():
          "robot.builtin: expected one of 'rrbot', 'ur5', 'arm3', 'planar2r', got 'jackal'"),
         (('builtin = "rrbot"', ""), "robot: give exactly one of builtin, dh or urdf, got none"),
         (('name = "arm"', 'name = "../arm"'), "name: expected letters, digits"),
-        (("velocity_deg = [9, 11]", "velocity_deg = [9, true]"),
-         "limits.velocity_deg[1]: expected a finite number, got True"),
-        (("velocity_deg = [9, 11]", "velocity_deg = [9, -1]"),
-         "limits.velocity_deg[1]: expected a number > 0, got -1"),
+        (("vmax_deg = [9, 11]", "vmax_deg = [9, true]"),
+         "limits.vmax_deg[1]: expected a finite number, got True"),
+        (("vmax_deg = [9, 11]", "vmax_deg = [9, -1]"),
+         "limits.vmax_deg[1]: expected a number > 0, got -1"),
         (("[limits]", "[simulation]\nengine = 'bullet'\n[limits]"),
          "simulation.engine: expected one of 'kinematic', 'mujoco', got 'bullet'"),
         (("[limits]", "[outputs]\nanimation = true\n[limits]"),
@@ -191,7 +191,7 @@ def test_parts_that_do_not_fit_are_named(tmp_path):
         scenario.execute(wrong_count, tmp_path, log=len)
     trapezoid = scenario.parse(ARM.replace("[limits]", "[limits]").replace(
         "qf_deg = [67, -45]", 'qf_deg = [67, -45]\nprofile = "trapezoid"'))  # fmt: skip
-    with pytest.raises(ScenarioError, match=r"limits\.acceleration: required by the trapezoid"):
+    with pytest.raises(ScenarioError, match=r"limits\.amax: required by the trapezoid"):
         scenario.execute(trapezoid, tmp_path, log=len)
     assert os.listdir(tmp_path) == []
 
@@ -212,9 +212,9 @@ q0 = [0.0, 0.5]
 qf = [1.0, -0.5]
 profile = "scurve"
 [limits]
-velocity = 1.0
-acceleration = 2.0
-jerk = 10.0
+vmax = 1.0
+amax = 2.0
+jmax = 10.0
 [outputs]
 csv = false
 plot = false
@@ -246,7 +246,7 @@ def test_trapezoid_and_scurve_options_reach_the_planner(profile, keys, controlle
                                                         tmp_path):  # fmt: skip
     text = MOVE.replace('profile = "scurve"', f'profile = "{profile}"\n{keys}') + controller
     if profile == "trapezoid":
-        text = text.replace("jerk = 10.0\n", "")
+        text = text.replace("jmax = 10.0\n", "")
     outcome = scenario.execute(scenario.parse(text), tmp_path, log=len)
     planner = {"trapezoid": tk.trapezoidal, "scurve": tk.scurve}[profile]
     direct = planner(*MOVE_ENDS, *MOVE_LIMITS[profile], **kwargs)
@@ -273,13 +273,13 @@ def test_polynomial_moves_take_their_boundary_accelerations(profile, tmp_path):
     ("change", "message"),
     [
         (('profile = "scurve"', 'profile = "cubic"\nmin_duration = 2'),
-         "task.min_duration: applies to trapezoid and scurve profiles, not cubic"),
+         "task.min_duration: applies to the trapezoid and scurve planners, not cubic"),
         (('profile = "scurve"', 'profile = "quintic"\ngrid = "duration"'),
-         "task.grid: applies to trapezoid and scurve profiles, not quintic"),
+         "task.grid: applies to the trapezoid and scurve planners, not quintic"),
         (('profile = "scurve"', 'profile = "trapezoid"\naf = 0.1'),
-         "task.af: applies to quintic, septic and scurve profiles, not trapezoid"),
+         "task.af: applies to the quintic, septic and scurve planners, not trapezoid"),
         (('profile = "scurve"', 'profile = "cubic"\na0_deg = 1'),
-         "task.a0_deg: applies to quintic, septic and scurve profiles, not cubic"),
+         "task.a0_deg: applies to the quintic, septic and scurve planners, not cubic"),
         (('profile = "scurve"', 'profile = "scurve"\nduration = 3\nmin_duration = 2'),
          "task.min_duration: give duration (exact) or min_duration (a floor), not both"),
         (('profile = "scurve"', 'profile = "scurve"\nmin_duration = 0'),
@@ -432,7 +432,7 @@ def test_trajkit_run_exits_1_when_the_plan_breaks_a_limit(tmp_path, capsys):
     path.write_text(
         'name = "fast"\n[task]\nkind = "polynomial"\ntimes = [0.0, 1.0]\n'
         "[[task.segments]]\nconditions = [[0, 0, 0], [0, 1, 0], [1, 0, 1], [1, 1, 0]]\n"
-        "[limits]\nvelocity = 1.0\n",  # the cubic peaks at 1.5 rad/s
+        "[limits]\nvmax = 1.0\n",  # the cubic peaks at 1.5 rad/s
         encoding="utf-8",
     )
     status = main(["run", str(path), "--out", str(tmp_path / "out")])
@@ -492,12 +492,12 @@ goal = [5.0, 3.0]
 heading = 1.5
 profile = "scurve"
 [limits]
-velocity = 0.5
-angular_velocity_deg = 30
-acceleration = 1.0
-angular_acceleration_deg = 60
-jerk = 2.0
-angular_jerk_deg = 120
+vmax = 0.5
+wmax_deg = 30
+amax = 1.0
+alpha_max_deg = 60
+jmax = 2.0
+angular_jmax_deg = 120
 [outputs]
 plot = false
 """
@@ -525,10 +525,10 @@ def test_goto_with_an_scurve_profile_runs_within_its_jerk_limits(tmp_path):
 @pytest.mark.parametrize(
     ("change", "message"),
     [
-        (("jerk = 2.0\n", ""), "limits.jerk: required by the scurve profile of a goto task"),
-        (("angular_jerk_deg = 120\n", ""), "limits.angular_jerk: required by the scurve"),
-        (('profile = "scurve"\n', ""), "limits.jerk: only used by the S-curve phases"),
-        (("jerk = 2.0\n", "jerk = -2.0\n"), "limits.jerk: expected a number > 0, got -2.0"),
+        (("jmax = 2.0\n", ""), "limits.jmax: required by the scurve profile of a goto task"),
+        (("angular_jmax_deg = 120\n", ""), "limits.angular_jmax: required by the scurve"),
+        (('profile = "scurve"\n', ""), "limits.jmax: only used by the S-curve phases"),
+        (("jmax = 2.0\n", "jmax = -2.0\n"), "limits.jmax: expected a number > 0, got -2.0"),
     ],
 )
 def test_goto_jerk_limits_are_checked_by_key(change, message):

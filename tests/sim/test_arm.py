@@ -21,7 +21,7 @@ import trajkit as tk
 from support import ROUNDING
 from trajkit import sim
 from trajkit.errors import InfeasibleError, InvalidInputError
-from trajkit.kinematics import UR5, DHRow, SerialChain
+from trajkit.kinematics import UR5, DHRow, Physical, SerialChain
 from trajkit.mobile import constant_twist
 from trajkit.sim.engine import compile_scene
 
@@ -191,9 +191,14 @@ def test_ur5_holds_a_pose_with_gravity_compensation(controller):
     assert 15.0 <= log.peak_effort[1] <= 30.0
 
 
+def _unit_mass_ur5() -> object:
+    """The UR5's kinematics with 1 kg links (its own masses are 0.19 to 8.4 kg)."""
+    return UR5().with_physical(Physical(link_mass=1.0))
+
+
 def test_ur5_position_servo_sags_without_gravity_compensation():
     plan = tk.cubic(UR5_POSE, UR5_POSE, duration=2.0)
-    log = sim.run(sim.arm_scene(UR5(), gravity_compensation=False), plan)
+    log = sim.run(sim.arm_scene(_unit_mass_ur5(), gravity_compensation=False), plan)
     sag = np.degrees(log.max_error)
     # Visible on the shoulder and elbow (measured 15.9 and 8.1 deg), bounded by gravity / kp:
     # 30.4 N·m / 100 N·m/rad = 17.4 deg at the worst pose along the way.
@@ -203,7 +208,7 @@ def test_ur5_position_servo_sags_without_gravity_compensation():
 
 def test_ur5_servo_settles_where_its_torque_balances_gravity():
     plan = tk.cubic(UR5_POSE, UR5_POSE, duration=2.0)
-    scene = sim.arm_scene(UR5(), gravity_compensation=False)
+    scene = sim.arm_scene(_unit_mass_ur5(), gravity_compensation=False)
     log = sim.run(scene, plan, duration=15.0)
     assert np.abs(log.actual_velocity[-1]).max() <= 1e-9  # measured 5e-14 rad/s: settled
     # Gravity at the sagged pose, from a model with the same links and no compensation.

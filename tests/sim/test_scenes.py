@@ -21,7 +21,7 @@ import trajkit as tk
 from support import ROUNDING
 from trajkit import sim
 from trajkit.errors import InvalidInputError
-from trajkit.kinematics import UR5, DHRow, Joint, RRBot, SerialChain, Spatial3R
+from trajkit.kinematics import UR5, DHRow, Joint, Physical, RRBot, SerialChain, Spatial3R
 from trajkit.mobile import DiffDrive, Unicycle, jackal
 from trajkit.sim.engine import compile_scene
 
@@ -189,8 +189,22 @@ def test_gravity_compensation_is_in_the_model(compensate):
     assert scene.compiled("velocity") is scene.compiled(sim.VelocityServo())  # cached
 
 
+def test_a_scene_takes_the_robots_physical_data_unless_told_otherwise():
+    own = sim.arm_scene(UR5())  # the UR5 carries Universal Robots' link masses
+    np.testing.assert_array_equal(own.link_mass, UR5().physical.link_mass)
+    assert own.link_radius == 0.045 and own.damping.tolist() == [0.1] * 6  # no damping given
+    assert sim.ur5_scene().link_mass.tolist() == own.link_mass.tolist()
+    told = sim.arm_scene(UR5(), link_mass=2.0, damping=0.5)
+    assert told.link_mass.tolist() == [2.0] * 6 and told.damping.tolist() == [0.5] * 6
+    bare = sim.arm_scene(UR5().with_physical(Physical()))  # nothing given: the defaults
+    assert bare.link_mass.tolist() == [1.0] * 6 and bare.armature.tolist() == [0.01] * 6
+    with pytest.raises(InvalidInputError, match="link_mass"):
+        sim.arm_scene(UR5().with_physical(Physical(link_mass=[1.0, 2.0])))
+
+
 def test_default_link_radius_is_three_percent_of_reach():
-    assert sim.arm_scene(UR5()).link_radius == pytest.approx(0.03 * UR5().reach(), rel=ROUNDING)
+    bare = UR5().with_physical(Physical())
+    assert sim.arm_scene(bare).link_radius == pytest.approx(0.03 * UR5().reach(), rel=ROUNDING)
     tiny = SerialChain([Joint("j", "revolute")], tool=translation(0.05, 0, 0))
     assert sim.arm_scene(tiny).link_radius == 0.01
 

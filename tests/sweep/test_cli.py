@@ -103,7 +103,7 @@ BAD_FILES = {
                           ["sweep.problems", "1.5"]),
     "chunk-0": (good().replace("chunk = 5", "chunk = 0"), ["sweep.chunk"]),
     "seed-negative": (good(sweep="seed = -1"), ["sweep.seed"]),
-    "period-0": (good(sweep="period = 0"), ["sweep.period"]),
+    "step-0": (good(sweep="sample_step = 0"), ["sweep.sample_step"]),
     "keep-everything": (good(sweep='keep = "everything"'), ["sweep.keep", "'everything'"]),
     "unknown-sync": (good(sweep='sync = "fast"'), ["sweep.sync", "'fast'"]),
     "min-duration-wrong-width": (good(fixed="vmax = 1.0\nmin_duration = [1, 2]"),

@@ -80,7 +80,7 @@ def test_an_error_never_names_another_problem(tmp_path):
 
 
 def test_a_failed_polynomial_row_keeps_its_swept_duration(tmp_path):
-    data = {"sweep": {"planner": "polynomial", "problems": 2, "chunk": 2},
+    data = {"sweep": {"planner": "quintic", "problems": 2, "chunk": 2},
             "robot": {"joints": 1}, "fixed": {"q0": 0.0, "qf": 1.0, "vmax": 1.0, "amax": 2.0},
             "swept": {"duration": {"values": [-1.5, 2.0]}}}  # fmt: skip
     _, table = planned(data, tmp_path)
@@ -243,7 +243,7 @@ def test_a_floor_that_is_not_positive_is_a_row_with_its_error(tmp_path):
 )
 def test_polynomial_rows_have_closed_form_peaks(tmp_path, profile, speed, acceleration):
     # q(t) = q0 + (qf - q0) s(t / T): peak |v| = speed |dq| / T, peak |a| = acc |dq| / T^2.
-    data = {"sweep": {"planner": "polynomial", "chunk": 5, "profile": profile},
+    data = {"sweep": {"planner": profile, "chunk": 5},
             "robot": {"joints": 2},
             "fixed": {"q0": [0.0, 1.0], "qf": [1.0, -1.0], "vmax": 1.0, "amax": [2.0, 3.0]},
             "swept": {"duration": {"grid": [0.75, 5.25, 10]}}}  # fmt: skip
@@ -269,7 +269,7 @@ def test_polynomial_rows_have_closed_form_peaks(tmp_path, profile, speed, accele
 def test_topp_rows_and_samples_match_planning_alone(tmp_path):
     joints, points, grid = 2, 4, 100
     data = {"sweep": {"planner": "topp", "problems": 4, "chunk": 2, "seed": 4,
-                      "points": points, "grid": grid, "keep": "samples", "period": 0.05},
+                      "points": points, "grid": grid, "keep": "samples", "sample_step": 0.05},
             "robot": {"joints": joints}, "fixed": {"vmax": [1.0, 1.5], "amax": 2.0},
             "swept": {"waypoints": {"uniform": [-1.0, 1.0]}}}  # fmt: skip
     summary, table = planned(data, tmp_path)

@@ -220,7 +220,7 @@ def test_a_chunk_file_that_does_not_read_back_is_redone(spec, reference, tmp_pat
 
 def test_a_chunk_whose_samples_are_missing_is_redone(tmp_path):
     data = trapezoid_file(40, 10)
-    data["sweep"].update(keep="samples", period=0.1)
+    data["sweep"].update(keep="samples", sample_step=0.1)
     spec = sweep.parse(data)
     out = tmp_path / "out"
     sweep.run(spec, out, workers=1)
@@ -252,7 +252,7 @@ def test_files_and_their_folders_reach_the_disk_around_the_rename(tmp_path, monk
     monkeypatch.setattr(store.os, "fsync", recording_fsync)
     monkeypatch.setattr(store.os, "replace", recording_replace)
     data = trapezoid_file(20, 10)
-    data["sweep"].update(keep="samples", period=0.1)
+    data["sweep"].update(keep="samples", sample_step=0.1)
     out = (tmp_path / "out").resolve()
     sweep.run(sweep.parse(data), out, workers=1)
     monkeypatch.undo()

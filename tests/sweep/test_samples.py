@@ -27,7 +27,7 @@ SAMPLED = 1e-12  # absolute (rad): samples against the trajectory evaluated dire
 def scurve_file(**swept) -> dict:
     return {
         "sweep": {"planner": "scurve", "problems": PROBLEMS, "chunk": CHUNK, "seed": 3,
-                  "keep": "samples", "period": PERIOD},
+                  "keep": "samples", "sample_step": PERIOD},
         "robot": {"joints": JOINTS},
         "fixed": {"vmax": 2.0, "amax": 5.0},
         "swept": {"q0": {"uniform": [-1, 1]}, "qf": {"uniform": [-1, 1]},
@@ -122,7 +122,7 @@ def test_no_samples_without_keep_samples_or_beyond_the_sweep(sampled, tmp_path):
 
 def samples_file(planner: str, fixed: dict, swept: dict, period: float) -> dict:
     return {"sweep": {"planner": planner, "problems": 4, "chunk": 4, "keep": "samples",
-                      "period": period},
+                      "sample_step": period},
             "robot": {"joints": 2}, "fixed": fixed, "swept": swept}  # fmt: skip
 
 
@@ -137,7 +137,7 @@ POLYNOMIAL = {"q0": 0.0, "qf": 1.0, "amax": 2.0, "vmax": 1.0}
         # negative int64 length, stored and read back as an empty trajectory.
         ("trapezoid", TRAPEZOID, {"vmax": {"values": [-1.0, 1.0]}}, 1e-300, "1.5e+300 samples"),
         ("trapezoid", TRAPEZOID | {"vmax": 1.0}, {}, 5e-324, "inf samples"),
-        ("polynomial", POLYNOMIAL, {"duration": {"values": [-1.0, 1.0]}}, 1e-300,
+        ("quintic", POLYNOMIAL, {"duration": {"values": [-1.0, 1.0]}}, 1e-300,
          "1e+300 samples"),
     ],
     ids=["batch-1e-300", "batch-denormal", "one-by-one-1e-300"],
@@ -150,7 +150,7 @@ def test_a_sample_count_past_int64_is_refused_not_stored(tmp_path, planner, fixe
         with pytest.raises(InvalidInputError) as caught:
             sweep.run(spec, tmp_path, workers=1)
     message = str(caught.value)
-    assert message.startswith(f'keep = "samples" with period = {period:.6g} s: ')
+    assert message.startswith(f'keep = "samples" with sample_step = {period:.6g} s: ')
     assert samples in message and "more than the 2 GiB allowed" in message
     assert data_files(tmp_path) == []  # nothing stored for the chunk
     assert not (tmp_path / "samples").exists() or not any((tmp_path / "samples").iterdir())
@@ -159,7 +159,7 @@ def test_a_sample_count_past_int64_is_refused_not_stored(tmp_path, planner, fixe
 @pytest.mark.parametrize(
     ("planner", "fixed"),
     [("trapezoid", TRAPEZOID | {"qf": 1e6, "vmax": 1e-3}),  # a 1e9 s move
-     ("polynomial", POLYNOMIAL | {"duration": 1e9})],
+     ("quintic", POLYNOMIAL | {"duration": 1e9})],
     ids=["batch", "one-by-one"],
 )  # fmt: skip
 def test_huge_samples_are_refused_before_anything_is_allocated(tmp_path, planner, fixed):
@@ -194,8 +194,8 @@ DAMAGES = {
     "a-file": lambda store: (shutil.rmtree(store), store.write_bytes(b"")),
     "metadata-not-json": lambda store: (store / "zarr.json").write_text("{", encoding="utf-8"),
     "no-length-array": lambda store: shutil.rmtree(store / "length"),
-    "no-period": lambda store: _zarr_json(store, lambda attrs: attrs.pop("period")),
-    "period-not-a-number": lambda store: _zarr_json(store, lambda a: a.update(period=None)),
+    "no-step": lambda store: _zarr_json(store, lambda attrs: attrs.pop("sample_step")),
+    "step-not-a-number": lambda store: _zarr_json(store, lambda a: a.update(sample_step=None)),
     "values-garbled": lambda store: (store / "values" / "c" / "0" / "0" / "0").write_bytes(b"xx"),
     # These two read back without any error before: zeros, and 146 samples at 0 times.
     "values-lost": lambda store: shutil.rmtree(store / "values" / "c"),

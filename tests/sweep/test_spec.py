@@ -149,7 +149,7 @@ def test_distributions_keep_their_bounds_and_moments(written):
 def test_defaults_of_a_minimal_file():
     spec = sweep.parse({"sweep": {"planner": "trapezoid", "problems": 25_000},
                         "fixed": {"q0": 0.0, "qf": 1.0, "vmax": 1.0, "amax": 2.0}})  # fmt: skip
-    assert (spec.name, spec.seed, spec.keep, spec.period) == ("sweep", 0, "summary", 0.01)
+    assert (spec.name, spec.seed, spec.keep, spec.sample_step) == ("sweep", 0, "summary", 0.01)
     assert spec.robot["joints"] == 6
     assert spec.chunk == 10_000 and spec.chunks == 3
     assert spec.options == {"sync": "time"}

@@ -31,7 +31,8 @@ from trajkit.cli.sweep import add_sweep_command, run_sweep
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import staged_files
 from trajkit.limits import Limits
-from trajkit.profiles import PLANNERS
+from trajkit.planners import CATALOG, OPTIONS, QUANTITIES, Quantity
+from trajkit.samples import DEFAULT_STEP
 from trajkit.trajectory import Trajectory
 
 __all__ = ["main"]
@@ -39,18 +40,6 @@ __all__ = ["main"]
 EXIT_USAGE = 2
 EXIT_LIMITS_BROKEN = 1  # trajkit run: the plan was written but breaks a limit
 EXIT_INTERRUPTED = 130  # Ctrl-C, as shells report it
-DEFAULT_SAMPLE_PERIOD = 0.002  # s, a common robot controller period
-
-# Each profile and the optional arguments it takes (besides q0, qf, duration, limits).
-PROFILES: dict[str, frozenset[str]] = {
-    "cubic": frozenset(),
-    "quintic": frozenset({"a0"}),
-    "septic": frozenset({"a0"}),
-    "trapezoid": frozenset({"sync"}),
-    "scurve": frozenset({"sync", "jmax", "a0"}),
-}
-for _name in ("cubic", "quintic", "septic"):
-    PROFILES[_name] |= {"jmax"}
 
 
 class CommandError(Exception):
@@ -80,8 +69,27 @@ def _vector(values: list[list[float]] | None) -> np.ndarray | None:
     return np.array(flat[0] if len(flat) == 1 else flat, dtype=float)
 
 
-def _add_vector(parser: argparse.ArgumentParser, flag: str, help_text: str) -> None:
-    parser.add_argument(flag, type=_numbers, nargs="+", metavar="X", help=help_text)
+def _listed(names: list[str]) -> str:
+    return ", ".join(names[:-1]) + f" and {names[-1]}" if len(names) > 1 else names[0]
+
+
+def _takers(name: str) -> str:
+    """The planners that take ``name``, for a help text ("cubic, quintic" or "all")."""
+    users = [entry.name for entry in CATALOG.values() if entry.takes(name)]
+    return "all" if len(users) == len(CATALOG) else ", ".join(users)
+
+
+def _add_quantity(parser: argparse.ArgumentParser, quantity: Quantity) -> None:
+    """The flag of a catalog quantity: ``--min-duration 2``, ``--vmax 1,2``."""
+    degrees = quantity.unit.replace("rad", "deg")
+    unit = f"{quantity.unit}, or {degrees} with --deg" if quantity.angular else quantity.unit
+    default = "" if quantity.default is None else f"; default {quantity.default:g}"
+    text = f"{_takers(quantity.name)}: {quantity.meaning} ({unit}{default})"
+    flag = "--" + quantity.name.replace("_", "-")
+    if quantity.per_joint:
+        parser.add_argument(flag, type=_numbers, nargs="+", metavar="X", help=text)
+    else:
+        parser.add_argument(flag, type=float, help=text)
 
 
 def _build_parser() -> _Parser:
@@ -97,43 +105,29 @@ def _build_parser() -> _Parser:
         help="plan one joint-space move and print its summary",
         description="Plan a move for one or more joints and print its plan and limit "
         "check. Lists are given as '0 1.5' or '0,1.5'; a single number applies to every "
-        "joint.",
+        "joint. Planners: "
+        + "; ".join(f"{entry.name}: {entry.summary}" for entry in CATALOG.values())
+        + ".",
     )
-    plan.add_argument("profile", choices=sorted(PROFILES), help="time law")
-    _add_vector(plan, "--q0", "start positions (rad, or deg with --deg)")
-    _add_vector(plan, "--qf", "end positions")
-    plan.add_argument(
-        "--duration", type=float, help="move time in s (default: shortest under limits)"
-    )
-    _add_vector(plan, "--v0", "start velocities (default 0)")
-    _add_vector(plan, "--vf", "end velocities (default 0)")
-    plan.add_argument(
-        "--min-duration", type=float, help="trapezoid/scurve: move time at least this (s)"
-    )
-    _add_vector(plan, "--a0", "start accelerations, quintic/septic/scurve (default 0)")
-    _add_vector(plan, "--af", "end accelerations, quintic/septic/scurve (default 0)")
-    _add_vector(plan, "--vmax", "velocity limits (rad/s, or deg/s with --deg)")
-    _add_vector(plan, "--amax", "acceleration limits")
-    _add_vector(plan, "--jmax", "jerk limits")
+    plan.add_argument("profile", choices=list(CATALOG), help="the planner (time law)")
+    for quantity in QUANTITIES.values():
+        _add_quantity(plan, quantity)
     plan.add_argument("--deg", action="store_true", help="angles and limits in degrees")
+    for option in OPTIONS.values():
+        plan.add_argument(f"--{option.name}", choices=option.choices,
+                          help=f"{_takers(option.name)}: {option.meaning} (default "
+                          f"{option.default})")  # fmt: skip
     plan.add_argument(
-        "--sync",
-        choices=["time", "phase", "time_if_necessary", "none"],
-        default="time",
-        help="trapezoid/scurve: finish together (time), move on a line (phase), together "
-        "unless ending at rest (time_if_necessary), or not",
-    )
-    plan.add_argument(
-        "--dt",
+        "--period",
         type=float,
-        help="controller period in s: trapezoid/scurve switching times become multiples of "
-        "it; also the --csv sampling period (default 0.002)",
+        help=f"{_takers('period')}: the controller period (s); switching times become "
+        "its multiples (see --grid)",
     )
+    plan.add_argument("--dt", type=float, help=argparse.SUPPRESS)  # the old name of two flags
     plan.add_argument(
-        "--grid",
-        choices=["switches", "duration"],
-        help="with --dt: put every switching time (switches, the default) or only the "
-        "duration on its multiples",
+        "--sample-step",
+        type=float,
+        help=f"--csv: the sampling step (s); default the controller period, or {DEFAULT_STEP:g}",
     )
     plan.add_argument("--csv", type=Path, help="write samples (SI units) to this CSV file")
     plan.add_argument("--plot", type=Path, help="write a profile plot (.png, .svg or .pdf)")
@@ -355,51 +349,42 @@ def _plan(args: argparse.Namespace) -> int:
         raise CommandError("plan needs --q0 and --qf")
     to_si = np.pi / 180.0 if args.deg else 1.0
     unit = "deg" if args.deg else "rad"
-
-    def si(values: list[list[float]] | None) -> np.ndarray | None:
-        vector = _vector(values)
-        return None if vector is None else vector * to_si
-
-    kwargs: dict[str, object] = {
-        "vmax": si(args.vmax),
-        "amax": si(args.amax),
-        "v0": si(args.v0) if args.v0 else 0.0,
-        "vf": si(args.vf) if args.vf else 0.0,
-    }
-    accepts = PROFILES[args.profile]
-    if (args.a0 or args.af) and "a0" not in accepts:
+    if args.dt is not None:
         raise CommandError(
-            f"--a0/--af need a quintic, septic or scurve profile, not {args.profile}"
+            "--dt is now two flags: --period (the controller period: switching "
+            "times on its multiples) and --sample-step (the --csv step)"
         )
-    if args.jmax and "jmax" not in accepts:
-        raise CommandError(f"--jmax does not apply to a {args.profile} profile")
-    if "a0" in accepts:
-        kwargs["a0"] = si(args.a0) if args.a0 else 0.0
-        kwargs["af"] = si(args.af) if args.af else 0.0
-    if "jmax" in accepts:
-        kwargs["jmax"] = si(args.jmax)
-    if "sync" in accepts:
-        kwargs["sync"] = None if args.sync == "none" else args.sync
-        kwargs["dt"] = args.dt
-        if args.min_duration is not None:
-            if args.duration is not None:
-                raise CommandError("give --duration (exact) or --min-duration (a floor), not both")
-            kwargs["min_duration"] = args.min_duration
-        if args.grid is not None:
-            if args.dt is None:
-                raise CommandError("--grid needs --dt (the controller period it puts times on)")
-            kwargs["grid"] = args.grid
-    else:
-        for flag, given in (("--sync", args.sync != "time"),
-                            ("--min-duration", args.min_duration is not None),
-                            ("--grid", args.grid is not None)):  # fmt: skip
-            if given:
-                raise CommandError(
-                    f"{flag} applies to trapezoid and scurve profiles, not {args.profile}"
-                )
-    planner = PLANNERS[args.profile]
-    trajectory = planner(si(args.q0), si(args.qf), duration=args.duration, **kwargs)
-    limits = Limits(velocity=kwargs["vmax"], acceleration=kwargs["amax"], jerk=kwargs.get("jmax"))
+    entry = CATALOG[args.profile]
+    values: dict[str, object] = {}
+    for quantity in QUANTITIES.values():
+        given = getattr(args, quantity.name)
+        if given is None:
+            continue
+        flag = "--" + quantity.name.replace("_", "-")
+        if not entry.takes(quantity.name):
+            raise CommandError(f"{flag} {entry.refusal(quantity.name)}")
+        if quantity.per_joint:
+            given = _vector(given)
+        values[quantity.name] = given * to_si if quantity.angular else given
+    for name in (*OPTIONS, "period"):
+        if getattr(args, name) is not None and not entry.takes(name):
+            raise CommandError(f"--{name} {entry.refusal(name)}")
+        if getattr(args, name) is not None and name != "period":
+            values[name] = getattr(args, name)
+    if args.grid is not None and args.period is None:
+        raise CommandError("--grid needs --period (the controller period it puts times on)")
+    if args.duration is not None and args.min_duration is not None:
+        raise CommandError("give --duration (exact) or --min-duration (a floor), not both")
+    missing = [f"--{name}" for name in entry.needs if name not in values]
+    if missing:
+        verb = "is" if len(missing) == 1 else "are"
+        raise CommandError(
+            f"{' and '.join(missing)} {verb} required by the {entry.name} "
+            f"planner (it needs {_listed(['--' + n for n in entry.needs])})"
+        )
+    trajectory = entry.plan(values, period=args.period)
+    limits = Limits(velocity=values.get("vmax"), acceleration=values.get("amax"),
+                    jerk=values.get("jmax"))  # fmt: skip
     for flag, path in (("--plot", args.plot), ("--sim-plot", args.sim_plot)):
         if path is not None and path.suffix.lower() not in {".png", ".svg", ".pdf"}:
             raise CommandError(f"{flag} must end in .png, .svg or .pdf, got {path.name!r}")
@@ -412,9 +397,7 @@ def _plan(args: argparse.Namespace) -> int:
     images = render_or_note(scene, log, args.frames)
     with staged_files() as stage:
         if args.csv is not None:
-            trajectory.sample(DEFAULT_SAMPLE_PERIOD if args.dt is None else args.dt).to_csv(
-                stage.path(args.csv)
-            )
+            trajectory.sample(_sample_step(args)).to_csv(stage.path(args.csv))
         if args.plot is not None:
             from trajkit.viz.plot import profiles, save
 
@@ -434,6 +417,16 @@ def _plan(args: argparse.Namespace) -> int:
     return 0
 
 
+def _sample_step(args: argparse.Namespace) -> float:
+    """The CSV's sampling step (s): as given, else the controller period, else the default."""
+    for step in (args.sample_step, args.period):
+        if step is not None:
+            if not (np.isfinite(step) and step > 0.0):
+                raise CommandError(f"--sample-step must be a time > 0 s, got {step:g}")
+            return step
+    return DEFAULT_STEP
+
+
 def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to_si: float,
              *, grid: str | None = None) -> str:  # fmt: skip
     info = trajectory.info
@@ -444,9 +437,9 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
     if info.get("sync"):
         lines[0] += f", sync={info['sync']}"
     if info.get("dt") and grid == "duration":
-        lines[0] += f", duration a multiple of dt={info['dt']:g} s"
+        lines[0] += f", duration a multiple of period={info['dt']:g} s"
     elif info.get("dt"):
-        lines[0] += f", switching on multiples of dt={info['dt']:g} s"
+        lines[0] += f", switching on multiples of period={info['dt']:g} s"
     start, end = trajectory.start_state, trajectory.end_state
     with np.errstate(over="ignore"):  # a peak past 1.8e308 in degrees is shown as inf
         peaks = [trajectory.extrema(order).peak / to_si for order in (1, 2)]

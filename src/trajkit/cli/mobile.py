@@ -33,6 +33,7 @@ from trajkit.mobile.control import controller_named
 from trajkit.mobile.flatness import FigureEight
 from trajkit.mobile.models import BASES, Model
 from trajkit.mobile.plans import MAX_TRAVEL
+from trajkit.samples import DEFAULT_STEP
 
 __all__ = ["add_mobile_commands", "run_mobile"]
 
@@ -46,8 +47,10 @@ def _outputs(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--csv", type=Path, help="write the samples (SI units) to this CSV file")
     parser.add_argument("--plot", type=Path, help="velocities, position, heading against time")
     parser.add_argument("--path-plot", type=Path, help="the XY path with the robot drawn")
-    parser.add_argument("--dt", type=float, default=0.01,
-                        help="sampling / simulation step in s (default 0.01)")  # fmt: skip
+    parser.add_argument("--sample-step", type=float, default=DEFAULT_STEP,
+                        help="the sampling and simulation step in s (default "
+                        f"{DEFAULT_STEP:g})")  # fmt: skip
+    parser.add_argument("--dt", type=float, help=argparse.SUPPRESS)  # the old name
     add_sim_options(parser, arm=False)
 
 
@@ -139,7 +142,7 @@ def _write(
     with staged_files() as stage:
         if args.csv is not None:
             if log is None:
-                plan.to_csv(stage.path(args.csv), args.dt)
+                plan.to_csv(stage.path(args.csv), args.sample_step)
             else:
                 log.to_csv(stage.path(args.csv))
         if args.plot is not None or args.path_plot is not None:
@@ -158,8 +161,11 @@ def run_mobile(args: argparse.Namespace) -> int:
     """Carry out one ``trajkit mobile`` command; returns the exit status."""
     _check_suffix(args.plot, "--plot")
     _check_suffix(args.path_plot, "--path-plot")
-    if not args.dt > 0.0 or not np.isfinite(args.dt):
-        raise InvalidInputError(f"--dt must be a time > 0 s, got {args.dt:g}")
+    if args.dt is not None:
+        raise InvalidInputError("--dt is now named --sample-step (the sampling and simulation "
+                                "step)")  # fmt: skip
+    if not args.sample_step > 0.0 or not np.isfinite(args.sample_step):
+        raise InvalidInputError(f"--sample-step must be a time > 0 s, got {args.sample_step:g}")
     check_sim_options(args)
     model = BASES[args.robot]()
     if args.sim == "mujoco" and not isinstance(model, DiffDrive):
@@ -201,7 +207,7 @@ def run_mobile(args: argparse.Namespace) -> int:
         start = plan.start_pose + np.array([dx, dy, np.radians(dtheta)])
         controller = controller_named(args.controller)
         if args.sim == "kinematic":
-            log = simulate(plan, controller, dt=args.dt, initial_pose=start,
+            log = simulate(plan, controller, dt=args.sample_step, initial_pose=start,
                            command_rate_hz=args.rate_hz)  # fmt: skip
         title = f"figure eight {args.width:g} m x {args.height:g} m, {args.controller}"
     images: list = []
@@ -219,7 +225,7 @@ def run_mobile(args: argparse.Namespace) -> int:
         lines.append(f"simulated in MuJoCo at {rate_hz:g} Hz: {log.summary()}")
         images = render_or_note(scene, log, args.frames)
     elif log is not None:
-        lines.append(f"tracking ({args.dt:g} s steps): {log.summary()}")
+        lines.append(f"tracking ({args.sample_step:g} s steps): {log.summary()}")
     written = _write(args, plan, log, title, images)
     # Printed once everything has been computed and written: a failure prints only its error.
     print("\n".join(lines))

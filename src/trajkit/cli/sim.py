@@ -106,7 +106,7 @@ def simulate_arm(args: argparse.Namespace, trajectory: Trajectory) -> tuple[Any,
         raise InvalidInputError(
             f"--robot {args.robot} has {robot.ndof} joints but the move has {trajectory.ndof}"
         )
-    scene = sim.builtin_scene(args.robot, robot)
+    scene = sim.arm_scene(robot)
     log = sim.run(
         scene, trajectory, control_rate_hz=args.control_rate_hz, controller=args.controller
     )

@@ -11,6 +11,7 @@ Examples
 from trajkit.kinematics.chain import DHRow, Joint, SerialChain
 from trajkit.kinematics.drawing import link_positions
 from trajkit.kinematics.ik import IKSolution
+from trajkit.kinematics.physical import Physical
 from trajkit.kinematics.robots import BUILTIN, UR5, AnalyticChain, Planar2R, RRBot, Spatial3R
 from trajkit.kinematics.urdf import from_urdf
 
@@ -21,6 +22,7 @@ __all__ = [
     "DHRow",
     "IKSolution",
     "Joint",
+    "Physical",
     "Planar2R",
     "RRBot",
     "SerialChain",

@@ -12,15 +12,17 @@ Jacobians are geometric, in the base (world) frame, with the linear rows first:
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, Self
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from trajkit._validation import finite_array
 from trajkit.errors import InvalidInputError
+from trajkit.kinematics.physical import Physical
 from trajkit.limits import Limits
 from trajkit.rotations import axis_rotation, cross_columns, homogeneous
 
@@ -249,6 +251,21 @@ class SerialChain:
     def joints(self) -> tuple[Joint, ...]:
         """The joints, base to tool."""
         return self._joints
+
+    @property
+    def physical(self) -> Physical | None:
+        """The arm's masses, sizes and friction, if its description gives them."""
+        return getattr(self, "_physical", None)
+
+    def with_physical(self, physical: Physical) -> Self:
+        """A copy of the chain that carries ``physical`` (its kinematics unchanged)."""
+        if not isinstance(physical, Physical):
+            raise InvalidInputError(
+                f"physical must be a trajkit.kinematics.Physical, got {type(physical).__name__}"
+            )
+        twin = copy.copy(self)
+        twin._physical = physical
+        return twin
 
     @property
     def ndof(self) -> int:

@@ -16,6 +16,7 @@ from trajkit._validation import finite_array, positive_scalar
 from trajkit.errors import InvalidInputError, UnreachableError
 from trajkit.kinematics.chain import DHRow, Joint, SerialChain, _translation
 from trajkit.kinematics.ik import IKSolution, parse_targets
+from trajkit.kinematics.physical import Physical
 from trajkit.rotations import homogeneous
 
 FloatArray = NDArray[np.float64]
@@ -292,7 +293,10 @@ def RRBot() -> Planar2R:
     base = homogeneous(
         np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]), [0.0, 0.0, 1.95]
     )
-    return Planar2R(0.9, 0.95, base=base, axis_offsets=(0.1, 0.1, 0.0), name="RRBot")
+    arm = Planar2R(0.9, 0.95, base=base, axis_offsets=(0.1, 0.1, 0.0), name="RRBot")
+    # rrbot.xacro: 1 kg links 0.1 m thick, joint damping 0.7.
+    return arm.with_physical(Physical(link_mass=1.0, link_radius=0.05, damping=0.7,
+                                      source="rrbot.xacro"))  # fmt: skip
 
 
 class Spatial3R(AnalyticChain):
@@ -396,7 +400,11 @@ def UR5() -> SerialChain:
         "wrist_2",
         "wrist_3",
     ]
-    return SerialChain.from_dh(table, names=names, name="UR5")
+    arm = SerialChain.from_dh(table, names=names, name="UR5")
+    return arm.with_physical(Physical(
+        link_mass=[3.7, 8.393, 2.33, 1.219, 1.219, 0.1879], link_radius=0.045,
+        source="Universal Robots' UR5 description (link masses)",
+    ))  # fmt: skip
 
 
 #: The arms known by name on the command line and in scenario files.

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from trajkit.errors import InvalidInputError
 from trajkit.limits import Bounds, LimitSpec, parse_bounds
 
-__all__ = ["QUANTITIES", "UNITS", "MobileLimits", "check_limits"]
+__all__ = ["KEYWORDS", "QUANTITIES", "UNITS", "MobileLimits", "check_limits"]
 
 # Attribute, the name used in messages and reports, and the unit.
 QUANTITIES = (
@@ -19,6 +19,10 @@ QUANTITIES = (
     ("wheel_speed", "wheel speed", "rad/s"),
 )
 UNITS = {attribute: unit for attribute, _, unit in QUANTITIES}
+#: Each twist limit's keyword, as planners, scenario files, sweeps and the command line
+#: name it, and the attribute of :class:`MobileLimits` that holds it.
+KEYWORDS = {"vmax": "velocity", "wmax": "angular_velocity", "amax": "acceleration",
+            "alpha_max": "angular_acceleration"}  # fmt: skip
 
 
 @dataclass(frozen=True, init=False)

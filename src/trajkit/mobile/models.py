@@ -9,7 +9,7 @@ adds wheels, whose speeds (rad/s) follow from the twist exactly.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -110,14 +110,15 @@ class DiffDrive:
 
     wheel_radius: float
     track_width: float
-    wheel_speed_limit: float | None = None
+    # Stored once, in ``limits.wheel_speed``; read back by the property set below the class.
+    wheel_speed_limit: InitVar[float | None] = None
     track_multiplier: float = 1.0
     wheelbase: float = 0.0
     mass: float | None = None
     limits: MobileLimits = field(default_factory=MobileLimits)
     name: str = "diff-drive"
 
-    def __post_init__(self) -> None:
+    def __post_init__(self, wheel_speed_limit: float | None) -> None:
         check_limits(self.limits)
         for attribute in ("wheel_radius", "track_width"):
             object.__setattr__(
@@ -136,20 +137,15 @@ class DiffDrive:
         object.__setattr__(self, "wheelbase", wheelbase)
         if self.mass is not None:
             object.__setattr__(self, "mass", positive_scalar("mass", self.mass, unit="kg"))
-        if self.wheel_speed_limit is not None:
-            limit = positive_scalar("wheel_speed_limit", self.wheel_speed_limit, unit="rad/s")
+        if wheel_speed_limit is not None:
+            limit = positive_scalar("wheel_speed_limit", wheel_speed_limit, unit="rad/s")
             given = self.limits.wheel_speed
             if given is not None and (float(given.lower), float(given.upper)) != (-limit, limit):
                 raise InvalidInputError(
                     f"wheel_speed_limit={limit:g} rad/s disagrees with limits.wheel_speed "
                     f"({float(given.lower):g}, {float(given.upper):g}); give the wheel limit once"
                 )
-            object.__setattr__(self, "wheel_speed_limit", limit)
             object.__setattr__(self, "limits", self.limits.replace(wheel_speed=limit))
-        elif self.limits.wheel_speed is not None:
-            bounds = self.limits.wheel_speed
-            largest = max(-float(bounds.lower), float(bounds.upper))
-            object.__setattr__(self, "wheel_speed_limit", largest)
 
     @property
     def effective_track(self) -> float:
@@ -184,6 +180,17 @@ class DiffDrive:
         left, right = speeds[..., 0], speeds[..., 1]
         r = self.wheel_radius
         return np.stack([r * (right + left) / 2.0, r * (right - left) / self.effective_track], -1)
+
+
+def _wheel_speed_limit(self: DiffDrive) -> float | None:
+    """The largest wheel speed magnitude (rad/s), or None: ``limits.wheel_speed`` read back."""
+    bounds = self.limits.wheel_speed
+    return None if bounds is None else max(-float(bounds.lower), float(bounds.upper))
+
+
+# A property of the same name as the constructor's argument: set after the dataclass is
+# made, which has taken the argument's default of None already.
+DiffDrive.wheel_speed_limit = property(_wheel_speed_limit)  # type: ignore[assignment]
 
 
 Model = Unicycle | DiffDrive

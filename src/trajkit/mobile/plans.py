@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike
 
 from trajkit._validation import finite_array, finite_scalar, positive_scalar
 from trajkit.errors import InfeasibleError, InvalidInputError
-from trajkit.mobile.limits import MobileLimits, check_limits
+from trajkit.mobile.limits import KEYWORDS, UNITS, MobileLimits, check_limits
 from trajkit.mobile.models import (
     DiffDrive,
     Model,
@@ -317,14 +317,10 @@ def rotate_translate_rotate(
         )
     limits = check_limits(base.limits if limits is None else limits)
     given = {}
-    for attribute, name, value, unit in (
-        ("velocity", "vmax", vmax, "m/s"),
-        ("angular_velocity", "wmax", wmax, "rad/s"),
-        ("acceleration", "amax", amax, "m/s^2"),
-        ("angular_acceleration", "alpha_max", alpha_max, "rad/s^2"),
-    ):
+    for name, value in (("vmax", vmax), ("wmax", wmax), ("amax", amax), ("alpha_max", alpha_max)):
         if value is not None:
-            given[attribute] = positive_scalar(name, value, unit=unit)
+            attribute = KEYWORDS[name]
+            given[attribute] = positive_scalar(name, value, unit=UNITS[attribute])
     limits = limits.replace(**given)
     if not isinstance(reverse, bool):
         raise InvalidInputError(f"reverse must be True or False, got {reverse!r}")

@@ -8,7 +8,6 @@ from trajkit.profiles.velocity import velocity_change
 from trajkit.profiles.via import cubic_spline, cubic_via, quintic_via
 
 __all__ = [
-    "PLANNERS",
     "blended",
     "cubic",
     "cubic_spline",
@@ -21,7 +20,3 @@ __all__ = [
     "trapezoidal",
     "velocity_change",
 ]
-
-#: The rest-to-rest planners by the profile names of the command line and scenario files.
-PLANNERS = {"cubic": cubic, "quintic": quintic, "septic": septic, "trapezoid": trapezoidal,
-            "scurve": scurve}  # fmt: skip

@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike
 from trajkit._validation import FloatArray, finite_array, flag, positive_joint_vector
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
+from trajkit.tolerances import LIMIT_RTOL, ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
 __all__ = ["blended"]
@@ -29,7 +30,6 @@ _ITERATIONS = 200  # fixed-point passes when searching segment durations
 _NEWTON = 60  # Newton steps when placing pseudo via points at fixed durations
 _LENGTHEN = 100  # schedules through=True tries, each longer than the last, before giving up
 _SHORTEST = 1e-9  # s: a segment without motion still needs some time to be a segment
-_SLACK = 1e-12  # relative: rounding allowed in every feasibility comparison
 
 
 def _change_time(dv: FloatArray, amax: FloatArray, jmax: FloatArray | None) -> FloatArray:
@@ -95,7 +95,7 @@ def _end_speed(
     """
     high = _fastest_change(T, amax, jmax)
     reach = high * (T - _change_time(high, amax, jmax) / 2.0)
-    fits = reach >= d * (1.0 - _SLACK)
+    fits = reach >= d * (1.0 - ROUNDING_RTOL)
     with np.errstate(divide="ignore", invalid="ignore"):
         if jmax is None:
             # d = v T - v^2 / (2 amax); the smaller root, written without cancellation.
@@ -152,7 +152,9 @@ def _velocities(
             v[end] = np.sign(dq[end]) * speed
             # The rate vanishes where the blend fills the segment (parabolic, tb = T).
             with np.errstate(divide="ignore"):
-                rates[end] = np.where(fits[row], 1.0 / np.maximum(rate, _SLACK * T[end]), 0.0)
+                rates[end] = np.where(
+                    fits[row], 1.0 / np.maximum(rate, ROUNDING_RTOL * T[end]), 0.0
+                )
     padded = np.concatenate([np.zeros((1, q.shape[1])), v, np.zeros((1, q.shape[1]))])
     blends = _change_time(np.diff(padded, axis=0), amax, jmax)
     return v, blends, fits, rates
@@ -373,8 +375,8 @@ def _shortfall(
     own = _own_minimum(q, v_limit, a_limit, j_limit)
     v, blends, fits, _ = _velocities(q, T, a_limit, j_limit)
     # Both follow from T >= own; checked again so rounding cannot slip through.
-    alone = T < own * (1 - _SLACK)
-    alone |= (np.abs(v) > v_limit * (1 + _SLACK)).any(axis=1)
+    alone = T < own * (1 - ROUNDING_RTOL)
+    alone |= (np.abs(v) > v_limit * (1 + ROUNDING_RTOL)).any(axis=1)
     alone[0] |= not fits[0].all()
     alone[-1] |= not fits[1].all()
     if alone.any():
@@ -384,7 +386,7 @@ def _shortfall(
             f"(segment {k} alone needs at least {own[k]:.6g} s)"
         )
     room = _room(T, blends)
-    overlap = (room < -_SLACK * T[:, np.newaxis]).any(axis=1)
+    overlap = (room < -ROUNDING_RTOL * T[:, np.newaxis]).any(axis=1)
     if overlap.any():
         k = int(np.flatnonzero(overlap)[0])
         need = float(np.max(T[k] - room[k]))
@@ -697,7 +699,8 @@ def _verify(
         raise _out_of_range(q, v_limit, a_limit)
     # Written so that NaN fails them too.
     if not (
-        np.all(velocity <= v_limit * (1 + 1e-9)) and np.all(acceleration <= a_limit * (1 + 1e-9))
+        np.all(velocity <= v_limit * (1 + LIMIT_RTOL))
+        and np.all(acceleration <= a_limit * (1 + LIMIT_RTOL))
     ):
         if extreme:
             raise _out_of_range(q, v_limit, a_limit)

@@ -29,6 +29,7 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import LimitSpec, parse_bounds
 from trajkit.profiles import engine
 from trajkit.profiles._phases import PhasePlan
+from trajkit.tolerances import ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
 __all__ = [
@@ -41,7 +42,8 @@ __all__ = [
     "trajectory",
 ]
 
-SYNC_NAMES = ("time", "phase", "time_if_necessary", None)
+#: The sync modes; ``"none"`` is ``None`` spelled as files and the command line spell it.
+SYNC_NAMES = ("time", "phase", "time_if_necessary", "none", None)
 GRIDS = ("switches", "duration")
 
 
@@ -105,7 +107,7 @@ def read_sync(sync: object, ndof: int) -> tuple[np.ndarray, tuple[str | None, ..
     """Sync codes per joint from one mode for all or one per joint.
 
     Modes: ``"time"``, ``"phase"``, ``"time_if_necessary"`` or ``None`` (left out
-    of synchronization).
+    of synchronization; ``"none"`` is the same).
     """
     if isinstance(sync, str) or sync is None:
         names = (choice("sync", sync, SYNC_NAMES),) * ndof
@@ -119,6 +121,7 @@ def read_sync(sync: object, ndof: int) -> tuple[np.ndarray, tuple[str | None, ..
         raise InvalidInputError(
             f"sync must be one of {SYNC_NAMES} or a sequence of them per joint, got {sync!r}"
         )
+    names = tuple(None if name == "none" else name for name in names)
     return np.array([engine.SYNC_MODES[n] for n in names], dtype=np.int64), names
 
 
@@ -144,7 +147,9 @@ def _check_target(p: Problem) -> None:
             )
     # Arriving while decelerating means having been faster just before.
     before = p.vf - p.af * np.abs(p.af) / np.where(np.isinf(p.j_max), np.inf, 2.0 * p.j_max)
-    bad = np.flatnonzero((before > p.v_max * (1 + 1e-12)) | (before < p.v_min * (1 + 1e-12)))
+    bad = np.flatnonzero(
+        (before > p.v_max * (1 + ROUNDING_RTOL)) | (before < p.v_min * (1 + ROUNDING_RTOL))
+    )
     if bad.size:
         j = bad[0]
         raise InfeasibleError(
@@ -255,9 +260,10 @@ def _sync_codes(sync: object, ndof: int) -> tuple[NDArray[np.int64], tuple[str |
         if sync not in SYNC_NAMES:
             return None
         packed = np.zeros((3, ndof), np.int64)
-        packed[1] = engine.SYNC_MODES[sync]
+        name = None if sync == "none" else sync
+        packed[1] = engine.SYNC_MODES[name]
         packed[2] = 1
-        codes = _SYNC_CACHE[key] = (packed, (sync,) * ndof)
+        codes = _SYNC_CACHE[key] = (packed, (name,) * ndof)
     return codes
 
 
@@ -456,13 +462,13 @@ def solve(
         finite_result(planner, np.array([total]), {"duration": duration})
     if duration is not None:
         fastest = float(result.own.max())
-        if floor < fastest * (1 - 1e-12):
+        if floor < fastest * (1 - ROUNDING_RTOL):
             joint = int(np.argmax(result.own))
             raise InfeasibleError(
                 f"duration {floor:.6g} s is below the minimum {fastest:.6g} s set by "
                 f"{_limits_text(p, joint)} (joint {joint + 1})"
             )
-        if total > floor * (1 + 1e-12) + (0.0 if step is None else step):
+        if total > floor * (1 + ROUNDING_RTOL) + (0.0 if step is None else step):
             joint = _blocked_joint(planner, p, floor, int(velocity_only))
             raise InfeasibleError(
                 f"duration {floor:.6g} s cannot be met exactly: joint {joint + 1} cannot take "
@@ -496,7 +502,7 @@ def _blocked_joint(planner: str, p: Problem, duration: float, control: int = 0) 
             sync=np.zeros(1, np.int64),
             min_duration=duration,
         )
-        if float(result.duration) > duration * (1 + 1e-12):
+        if float(result.duration) > duration * (1 + ROUNDING_RTOL):
             return joint
     return 0
 

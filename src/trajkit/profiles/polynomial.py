@@ -28,6 +28,7 @@ from trajkit._validation import (
     positive_scalar,
 )
 from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.tolerances import LIMIT_RTOL
 from trajkit.trajectory import Trajectory
 
 __all__ = ["cubic", "hermite_pieces", "polynomial", "quintic", "septic"]
@@ -362,7 +363,7 @@ def _boundary_polynomial(
         if given:
             ratios = _peak_ratios(start, end, np.array([T]), limits)[0]
             binding, joint = np.unravel_index(int(np.argmax(ratios)), ratios.shape)
-            if ratios[binding, joint] > 1.0 + 1e-9:
+            if ratios[binding, joint] > 1.0 + LIMIT_RTOL:
                 minimum, own, _, _ = _minimum_duration(start, end, limits)
                 limit = limits[binding]
                 raise InfeasibleError(

@@ -68,7 +68,7 @@ def scurve(
         where that is impossible they are time-synchronized and
         ``info["phase_synchronized"]`` is False. ``"time_if_necessary"``: as
         ``"time"``, except joints that end at rest (``vf = af = 0``) move as fast
-        as they can and wait. ``None``: every joint as fast as it can; early ones
+        as they can and wait. ``None`` (or ``"none"``): every joint as fast as it can; early ones
         continue at their target velocity. A sequence gives one mode per joint.
     dt : float, optional
         Controller period (s); see ``grid``. Every switch on the grid costs at most

@@ -16,6 +16,7 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import limited
 from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
+from trajkit.tolerances import ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
 __all__ = ["trapezoidal"]
@@ -81,7 +82,7 @@ def trapezoidal(
         on a straight line in joint space (the others time-synchronized;
         ``info["phase_synchronized"]`` says whether it held). ``"time_if_necessary"``:
         time sync except for joints that end at rest, which move as fast as they
-        can and wait. ``None``: every joint as fast as it can; the ones that finish
+        can and wait. ``None`` (or ``"none"``): every joint as fast as it can; the ones that finish
         early hold their end state (continuing at ``vf``). A sequence gives one
         mode per joint.
     dt : float, optional
@@ -259,7 +260,7 @@ def _blend_rule(
         T = shortest
     else:
         T = positive_scalar("duration", duration, unit="s")
-        if T < shortest * (1 - 1e-12):
+        if T < shortest * (1 - ROUNDING_RTOL):
             which = "vmax" if by_v[joint] >= by_a[joint] else "amax"
             value = v_limit[joint] if which == "vmax" else a_limit[joint]  # type: ignore[index]
             unit = "rad/s" if which == "vmax" else "rad/s^2"
@@ -278,10 +279,10 @@ def _blend_rule(
         total = float(whole_periods(T, step) * step)
         for _ in range(_MAX_EXTRA_PERIODS):
             tb = max(float(whole_periods(blend_of(total), step) * step), step)
-            if 2 * tb <= total * (1 + 1e-12):
+            if 2 * tb <= total * (1 + ROUNDING_RTOL):
                 velocity = magnitude / (total - tb)
-                ok = np.all(velocity <= v_limit * (1 + 1e-12)) and (
-                    a_limit is None or np.all(velocity / tb <= a_limit * (1 + 1e-12))
+                ok = np.all(velocity <= v_limit * (1 + ROUNDING_RTOL)) and (
+                    a_limit is None or np.all(velocity / tb <= a_limit * (1 + ROUNDING_RTOL))
                 )
                 if ok:
                     break
@@ -294,7 +295,7 @@ def _blend_rule(
         T = total
     else:
         tb = blend_of(T)
-    if 2 * tb > T * (1 + 1e-12):
+    if 2 * tb > T * (1 + ROUNDING_RTOL):
         raise InfeasibleError(f"blend_time {tb:.6g} s is more than half the duration {T:.6g} s")
     if T == 0.0:
         velocity = acceleration = np.zeros(ndof)

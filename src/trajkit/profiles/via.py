@@ -22,6 +22,14 @@ from trajkit.trajectory import Trajectory
 __all__ = ["cubic_spline", "cubic_via", "heuristic_velocities", "quintic_via"]
 
 
+def _via_velocities(t: FloatArray, q: FloatArray, velocities: ArrayLike | None) -> FloatArray:
+    """The velocities at the via points: as given, else the heuristic's."""
+    with np.errstate(all="ignore"):  # an overflow is refused by _through, by name
+        if velocities is None:
+            return heuristic_velocities(t, q)
+        return _per_point("velocities", velocities, q, "rad/s")
+
+
 def _via_points(times: ArrayLike, positions: ArrayLike) -> tuple[FloatArray, FloatArray]:
     t = increasing_times("times", times)
     q = finite_array("positions", positions, unit="rad")
@@ -109,12 +117,7 @@ def cubic_via(
         ``n - 1`` cubic pieces, C1 at the via points (acceleration may jump).
     """
     t, q = _via_points(times, positions)
-    with np.errstate(all="ignore"):  # an overflow is refused by _through, by name
-        v = (
-            heuristic_velocities(t, q)
-            if velocities is None
-            else _per_point("velocities", velocities, q, "rad/s")
-        )
+    v = _via_velocities(t, q, velocities)
     start = np.stack([q[:-1], v[:-1]])
     end = np.stack([q[1:], v[1:]])
     return _through(t, start, end, "cubic_via")
@@ -143,12 +146,7 @@ def quintic_via(
         ``n - 1`` quintic pieces, C2 at the via points.
     """
     t, q = _via_points(times, positions)
-    with np.errstate(all="ignore"):  # an overflow is refused by _through, by name
-        v = (
-            heuristic_velocities(t, q)
-            if velocities is None
-            else _per_point("velocities", velocities, q, "rad/s")
-        )
+    v = _via_velocities(t, q, velocities)
     if accelerations is None:
         a = np.zeros_like(q)
         with np.errstate(all="ignore"):

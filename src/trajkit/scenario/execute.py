@@ -19,17 +19,17 @@ from trajkit import mobile
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import StagedFiles, staged_files
 from trajkit.kinematics import BUILTIN, DHRow, SerialChain, from_urdf
+from trajkit.mobile.limits import KEYWORDS
 from trajkit.mobile.models import BASES
-from trajkit.profiles import PLANNERS
-from trajkit.scenario.parse import ACCELERATION_PROFILES, MOBILE_JERKS, Scenario
+from trajkit.planners import CATALOG
+from trajkit.samples import DEFAULT_STEP
+from trajkit.scenario.parse import MOBILE_ANGULAR, MOBILE_JERKS, Scenario
 from trajkit.scenario.reader import ScenarioError
 from trajkit.trajectory import Trajectory
 
 __all__ = ["Outcome", "execute", "preflight", "report_entry", "robot_of"]
 
 Log = Callable[[str], None]
-#: Sampling period of CSV files when the scenario sets no controller period (s).
-SAMPLE_PERIOD = 0.01
 
 
 @dataclass(frozen=True)
@@ -54,6 +54,11 @@ class Outcome:
     log: Any
     files: list[Path]
     lines: list[str]
+
+
+def sample_step(scenario: Scenario) -> float:
+    """The data files' sampling step (s): as given, else the controller period, else 10 ms."""
+    return scenario.outputs["sample_step"] or scenario.period or DEFAULT_STEP
 
 
 def robot_of(scenario: Scenario) -> Any:
@@ -102,8 +107,8 @@ def execute(
         raise ScenarioError(f"task: the plan has {plan.ndof} joint(s) but {robot.name} has "
                             f"{robot.ndof}")  # fmt: skip
     if scenario.mobile:  # a goto's S-curve phases answer to the base's jerk limits too
-        jerks = {"jerk": scenario.limits.get("jerk"),
-                 "angular_jerk": scenario.limits.get("angular_jerk")}  # fmt: skip
+        jerks = {"jerk": scenario.limits.get("jmax"),
+                 "angular_jerk": scenario.limits.get("angular_jmax")}  # fmt: skip
         checked = plan.check(**jerks)
     else:
         checked = plan.check(_arm_limits(scenario, robot))
@@ -175,8 +180,8 @@ def _arm_limits(scenario: Scenario, robot: SerialChain | None = None) -> tk.Limi
     position = None
     if robot is not None and np.any(np.isfinite(robot.lower) | np.isfinite(robot.upper)):
         position = (robot.lower, robot.upper)
-    return tk.Limits(position=position, velocity=limits.get("velocity"),
-                     acceleration=limits.get("acceleration"), jerk=limits.get("jerk"))  # fmt: skip
+    return tk.Limits(position=position, velocity=limits.get("vmax"),
+                     acceleration=limits.get("amax"), jerk=limits.get("jmax"))  # fmt: skip
 
 
 def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple[Trajectory, Any]:
@@ -188,25 +193,13 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
             raise ScenarioError(f"task.q0: expected {robot.ndof} numbers for {robot.name}, got "
                                 f"{task['q0'].size}")  # fmt: skip
         profile = task["profile"]
-        kwargs: dict[str, Any] = {"duration": task["duration"], "v0": task["v0"],
-                                  "vf": task["vf"]}  # fmt: skip
-        needs = {"trapezoid": ("velocity", "acceleration"),
-                 "scurve": ("velocity", "acceleration", "jerk")}.get(profile, ())  # fmt: skip
-        missing = [key for key in needs if key not in limits]
-        if missing:
-            raise ScenarioError(f"limits.{missing[0]}: required by the {profile} profile")
-        if profile in ACCELERATION_PROFILES:
-            kwargs |= {"a0": task["a0"], "af": task["af"]}
-        if profile in ("trapezoid", "scurve"):
-            kwargs |= {"sync": None if task["sync"] == "none" else task["sync"],
-                       "dt": scenario.period, "min_duration": task["min_duration"],
-                       "grid": task["grid"] or "switches"}  # fmt: skip
-            args = [limits[key] for key in needs]
-            plan = PLANNERS[profile](task["q0"], task["qf"], *args, **kwargs)
-        else:
-            kwargs |= {"vmax": limits.get("velocity"), "amax": limits.get("acceleration"),
-                       "jmax": limits.get("jerk")}  # fmt: skip
-            plan = PLANNERS[profile](task["q0"], task["qf"], **kwargs)
+        entry = CATALOG[profile]
+        for key in entry.needs:
+            if key not in limits:
+                raise ScenarioError(f"limits.{key}: required by the {profile} planner")
+        values = {key: value for key, value in task.items() if entry.takes(key)}
+        values |= {key: limits[key] for key in entry.limits if key in limits}
+        plan = entry.plan(values, period=scenario.period if entry.period else None)
         on = f" on {robot.name}" if robot is not None else ""
         lines.append(f"  {profile} joint move{on}: {plan.duration:.9g} s")
     elif kind == "polynomial":
@@ -225,11 +218,11 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
         if robot is not None and points.shape[1] != robot.ndof:
             raise ScenarioError(f"task.points[0]: expected {robot.ndof} numbers for "
                                 f"{robot.name}, got {points.shape[1]}")  # fmt: skip
-        for key in ("velocity", "acceleration"):
+        for key in ("vmax", "amax"):
             if key not in limits:
                 raise ScenarioError(f"limits.{key}: required by a waypoints task")
-        plan = tk.blended(points, limits["velocity"], limits["acceleration"],
-                          jmax=limits.get("jerk"), durations=task["durations"],
+        plan = tk.blended(points, limits["vmax"], limits["amax"],
+                          jmax=limits.get("jmax"), durations=task["durations"],
                           through=task["through"])  # fmt: skip
         lines.append(f"  blended move through {points.shape[0]} waypoints: {plan.duration:.9g} s")
     else:
@@ -249,7 +242,7 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
                               for row in task["poses"]])  # fmt: skip
             motion = through_poses(poses, task["profile"], durations=task["durations"])
             what = f"{task['profile']} moves through {len(poses)} poses"
-        mapped = to_joint_space(robot, motion, dt=task["dt"], branch=branch)
+        mapped = to_joint_space(robot, motion, dt=task["ik_step"], branch=branch)
         plan, extra = mapped.trajectory, motion
         lines.append(
             f"  {what} on {robot.name} in {motion.duration:g} s: path error "
@@ -261,7 +254,8 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
 
 
 def _mobile_limits(scenario: Scenario, model: Any) -> Any:
-    checked = {key: value for key, value in scenario.limits.items() if key not in MOBILE_JERKS}
+    checked = {KEYWORDS[key]: value for key, value in scenario.limits.items()
+               if key not in MOBILE_JERKS}  # fmt: skip
     return model.limits.replace(**checked)
 
 
@@ -280,7 +274,7 @@ def _mobile_plan(scenario: Scenario, model: Any, lines: list[str]) -> tuple[Any,
         )
         plan = mobile.rotate_translate_rotate(
             goal, (*task["start"], task["start_heading"]), limits=limits, profile=task["profile"],
-            jmax=scenario.limits.get("jerk"), angular_jmax=scenario.limits.get("angular_jerk"),
+            jmax=scenario.limits.get("jmax"), angular_jmax=scenario.limits.get("angular_jmax"),
             blend_ratio=task["blend_ratio"], reverse=task["reverse"], dt=scenario.period,
             model=model,
         )  # fmt: skip
@@ -323,7 +317,7 @@ def _simulate(scenario: Scenario, robot: Any, plan: Any, extra: Any, lines: list
         return None
     from trajkit import sim
 
-    scene = sim.builtin_scene(scenario.robot.get("builtin"), robot)
+    scene = sim.arm_scene(robot)
     run = sim.run(scene, plan, control_rate_hz=rate, controller=scenario.simulation["controller"])
     lines += ["  simulated in MuJoCo, " + line for line in run.summary().splitlines()[:1]]
     lines += ["  " + line for line in run.summary().splitlines()[1:]]
@@ -341,7 +335,7 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
     if scenario.mobile:
         if outputs["csv"]:
             if run is None:
-                plan.to_csv(at(".csv"), scenario.period or SAMPLE_PERIOD)
+                plan.to_csv(at(".csv"), sample_step(scenario))
             else:
                 run.to_csv(at(".csv"))
         if outputs["plot"]:
@@ -357,7 +351,7 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
         return
     samples = None
     if any(outputs[kind] for kind in ("csv", "json", "npz")):
-        samples = plan.sample(scenario.period or SAMPLE_PERIOD)
+        samples = plan.sample(sample_step(scenario))
         if robot is not None:
             samples = dataclasses.replace(samples, names=tuple(robot.names))
     for kind in ("csv", "json", "npz"):
@@ -366,7 +360,7 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
     if outputs["plot"]:
         names = None if robot is None else robot.names
         # A jerk panel too when the scenario limits jerk.
-        orders = (0, 1, 2, 3) if "jerk" in scenario.limits else (0, 1, 2)
+        orders = (0, 1, 2, 3) if "jmax" in scenario.limits else (0, 1, 2)
         figure = tk.plot.profiles(plan, _arm_limits(scenario), names=names, title=name,
                                   orders=orders)  # fmt: skip
         tk.plot.save(figure, at(".png"))
@@ -407,18 +401,23 @@ def report_entry(scenario: Scenario, outcome: Outcome) -> Any:
                  outcome.files, text)  # fmt: skip
 
 
+#: Each limit key in words, for the report, and its unit per second.
+_LIMIT_WORDS = {"vmax": ("velocity", "/s"), "amax": ("acceleration", "/s²"),
+                "jmax": ("jerk", "/s³"), "wmax": ("angular velocity", "/s"),
+                "alpha_max": ("angular acceleration", "/s²"),
+                "angular_jmax": ("angular jerk", "/s³")}  # fmt: skip
+
+
 def _limits_text(scenario: Scenario) -> str:
     """The scenario's limits in words, angles in degrees: "velocity 9, 11 deg/s"."""
     parts = []
     for key, value in scenario.limits.items():
         values = np.atleast_1d(value)
-        angular = not scenario.mobile or key.startswith("angular")
-        unit = {"velocity": "/s", "angular_velocity": "/s", "acceleration": "/s²",
-                "angular_acceleration": "/s²", "jerk": "/s³",
-                "angular_jerk": "/s³"}[key]  # fmt: skip
+        angular = not scenario.mobile or key in MOBILE_ANGULAR
+        words, unit = _LIMIT_WORDS[key]
         shown = np.degrees(values) if angular else values
         base = "deg" if angular else "m"
-        parts.append(f"{key.replace('_', ' ')} {', '.join(f'{v:.4g}' for v in shown)} "
+        parts.append(f"{words} {', '.join(f'{v:.4g}' for v in shown)} "
                      f"{base}{unit}")  # fmt: skip
     if not scenario.mobile or not parts:
         return "; ".join(parts) or "the robot's own"

@@ -17,8 +17,11 @@ from typing import Any
 import numpy as np
 
 from trajkit.kinematics.robots import BUILTIN
+from trajkit.mobile.limits import KEYWORDS
 from trajkit.mobile.models import BASES
 from trajkit.mobile.plans import MAX_TRAVEL
+from trajkit.planners import CATALOG, LIMITS, OPTIONS, QUANTITIES
+from trajkit.samples import DEFAULT_STEP
 from trajkit.scenario.reader import ScenarioError, Table
 
 __all__ = ["ARM_ROBOTS", "MOBILE_ROBOTS", "TASKS", "Scenario", "from_data", "load", "parse"]
@@ -30,21 +33,19 @@ ARM_TASKS = ("joint_move", "waypoints", "polynomial", "line", "ellipse", "poses"
 JOINT_TASKS = ("joint_move", "waypoints", "polynomial")
 MOBILE_TASKS = ("twist", "goto", "figure8")
 TASKS = ARM_TASKS + MOBILE_TASKS
-PROFILES = ("cubic", "quintic", "septic", "trapezoid", "scurve")
-#: The profiles a joint move's boundary accelerations (a0, af) apply to.
-ACCELERATION_PROFILES = ("quintic", "septic", "scurve")
-#: A trapezoid or S-curve joint move's sync modes ("none": every joint as fast as it can).
-SYNCS = ("time", "phase", "time_if_necessary", "none")
-#: What a trapezoid or S-curve joint move puts on the controller period's grid.
-GRIDS = ("switches", "duration")
 #: The largest time (s) a polynomial task names, some 31,700 years.
 MAX_TIME = 1e12
 #: A base's jerk limits: not MobileLimits; they shape a goto's S-curves, and the scenario's
 #: limit check verifies them on those phases (MobileTrajectory.check's jerk arguments).
-MOBILE_JERKS = ("jerk", "angular_jerk")
-MOBILE_LIMITS = (
-    "velocity", "angular_velocity", "acceleration", "angular_acceleration", *MOBILE_JERKS,
-)  # fmt: skip
+MOBILE_JERKS = ("jmax", "angular_jmax")
+MOBILE_LIMITS = (*KEYWORDS, *MOBILE_JERKS)
+#: The base's limits on turning: given in degrees as ``wmax_deg`` and so on.
+MOBILE_ANGULAR = ("wmax", "alpha_max", "angular_jmax")
+#: The limits' names before they were the planners' keywords, still read with a warning.
+OLD_ARM_LIMITS = {"velocity": "vmax", "acceleration": "amax", "jerk": "jmax"}
+OLD_MOBILE_LIMITS = {"velocity": "vmax", "angular_velocity": "wmax", "acceleration": "amax",
+                     "angular_acceleration": "alpha_max", "jerk": "jmax",
+                     "angular_jerk": "angular_jmax"}  # fmt: skip
 ANIMATIONS = ("none", "gif", "mp4")
 
 
@@ -60,19 +61,22 @@ class Scenario:
         resolved against the scenario's folder); empty for a joint-space task
         without a robot.
     task : dict
-        ``kind`` and its parameters, angles in radians.
+        ``kind`` and its parameters, angles in radians; a joint move's only as given
+        (the catalog planner's defaults apply to the others).
     limits : dict
-        Arm: velocity, acceleration, jerk (per joint); base: velocity,
-        angular_velocity, acceleration, angular_acceleration, and jerk (m/s³) and
-        angular_jerk (rad/s³) for a goto task with ``profile = "scurve"``.
+        Named as the planners' keywords. Arm: vmax, amax, jmax (per joint); base:
+        vmax, wmax, amax, alpha_max, and jmax (m/s³) and angular_jmax (rad/s³) for a
+        goto task with ``profile = "scurve"``.
     period : float or None
-        The controller period (s): switching times on its multiples, sampling.
+        The controller period (s): switching times on its multiples; also the data
+        files' sampling step unless ``outputs.sample_step`` sets one.
     simulation : dict
         ``engine`` (kinematic or mujoco), ``controller``, ``rate_hz``.
     outputs : dict
         ``csv``, ``json``, ``npz`` (samples), ``plot``, ``animation`` (none, gif or
         mp4) with ``animation_view``, ``animation_fps`` and ``animation_speed``,
-        ``ros2_bag``, ``ros2_stream``, ``storage`` (mcap or sqlite3).
+        ``ros2_bag``, ``ros2_stream``, ``storage`` (mcap or sqlite3), ``sample_step``
+        (s, the data files' sampling step; None: the controller period, else 10 ms).
     source : Path or None
         The file it was read from.
     text : str
@@ -205,29 +209,35 @@ def _robot(table: Table, kind: str, folder: Path) -> dict[str, Any]:
 
 def _task(table: Table, kind: str) -> dict[str, Any]:
     task: dict[str, Any] = {"kind": kind}
+    if kind in ("line", "ellipse", "poses"):
+        table = table.renamed({"dt": "ik_step"})
     if kind == "joint_move":
+        task["profile"] = table.string("profile", "cubic", choices=tuple(CATALOG))
+        entry = CATALOG[task["profile"]]
         task["q0"] = table.numbers("q0", angles=True)
-        task["qf"] = table.numbers("qf", count=task["q0"].size, angles=True)
-        task["profile"] = table.string("profile", "cubic", choices=PROFILES)
-        task["duration"] = table.number("duration", None, positive=True)
-        task["min_duration"] = table.number("min_duration", None, positive=True)
-        if task["duration"] is not None and task["min_duration"] is not None:
+        for quantity in QUANTITIES.values():
+            key = quantity.name
+            if key in LIMITS or key == "q0" or not table.has(key, angles=quantity.angular):
+                continue  # a limit is in [limits]; one left out takes the planner's default
+            if not entry.takes(key):
+                given = key if key in table.data else f"{key}_deg"
+                raise ScenarioError(f"{table.where(given)}: {entry.refusal(key)}")
+            task[key] = (
+                table.numbers(key, count=task["q0"].size, angles=quantity.angular,
+                              scalar_ok=key != "qf")
+                if quantity.per_joint else table.number(key, positive=True)
+            )  # fmt: skip
+        if "qf" not in task:
+            task["qf"] = table.numbers("qf", angles=True)  # required: says so
+        for option in OPTIONS.values():
+            if table.has(option.name):
+                if not entry.takes(option.name):
+                    raise ScenarioError(f"{table.where(option.name)}: "
+                                        f"{entry.refusal(option.name)}")  # fmt: skip
+                task[option.name] = table.string(option.name, choices=option.choices)
+        if "duration" in task and "min_duration" in task:
             raise ScenarioError(f"{table.where('min_duration')}: give duration (exact) or "
                                 "min_duration (a floor), not both")  # fmt: skip
-        task["sync"] = table.string("sync", "time", choices=SYNCS)
-        task["grid"] = table.string("grid", None, choices=GRIDS)
-        for key in ("sync", "min_duration", "grid"):
-            if table.has(key) and task["profile"] not in ("trapezoid", "scurve"):
-                raise ScenarioError(f"{table.where(key)}: applies to trapezoid and scurve "
-                                    f"profiles, not {task['profile']}")  # fmt: skip
-        for key in ("v0", "vf", "a0", "af"):
-            task[key] = table.numbers(key, 0.0, count=task["q0"].size, angles=True,
-                                      scalar_ok=True)  # fmt: skip
-        for key in ("a0", "af"):
-            if table.has(key, angles=True) and task["profile"] not in ACCELERATION_PROFILES:
-                given = key if key in table.data else f"{key}_deg"
-                raise ScenarioError(f"{table.where(given)}: applies to quintic, septic and "
-                                    f"scurve profiles, not {task['profile']}")  # fmt: skip
     elif kind == "waypoints":
         task["points"] = table.matrix("points", angles=True, minimum_rows=2)
         task["through"] = table.boolean("through", False)
@@ -277,7 +287,7 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
         task["law"] = table.string(
             "law", "linear", choices=("linear", "cubic", "quintic", "septic")
         )
-        task["dt"] = table.number("dt", 0.01, positive=True)
+        task["ik_step"] = table.number("ik_step", DEFAULT_STEP, positive=True)
         task["branch"] = table.string("branch", None)
     elif kind == "poses":
         task["poses"] = table.matrix("poses_xyz_rpy_deg", columns=6, minimum_rows=2)
@@ -285,13 +295,13 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
                                                                       "septic"))  # fmt: skip
         task["durations"] = table.numbers("durations", count=task["poses"].shape[0] - 1,
                                           positive=True)  # fmt: skip
-        task["dt"] = table.number("dt", 0.01, positive=True)
+        task["ik_step"] = table.number("ik_step", DEFAULT_STEP, positive=True)
     elif kind == "line":
         task["start"] = table.numbers("start", count=3)
         task["end"] = table.numbers("end", count=3)
         task["duration"] = table.number("duration", positive=True)
         task["law"] = table.string("law", "cubic", choices=("cubic", "quintic", "septic"))
-        task["dt"] = table.number("dt", 0.01, positive=True)
+        task["ik_step"] = table.number("ik_step", DEFAULT_STEP, positive=True)
     elif kind == "twist":
         task["v"] = table.number("v")
         task["omega"] = table.number("omega", angles=True)
@@ -329,10 +339,11 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
 def _limits(table: Table | None, mobile: bool) -> dict[str, Any]:
     if table is None:
         return {}
-    keys = MOBILE_LIMITS if mobile else ("velocity", "acceleration", "jerk")
+    table = table.renamed(OLD_MOBILE_LIMITS if mobile else OLD_ARM_LIMITS)
+    keys = MOBILE_LIMITS if mobile else LIMITS
     limits = {}
     for key in keys:
-        angular = not mobile or key.startswith("angular")
+        angular = not mobile or key in MOBILE_ANGULAR
         if table.has(key, angles=angular):
             limits[key] = (table.number(key, angles=angular, positive=True) if mobile
                            else table.numbers(key, angles=angular, scalar_ok=True,
@@ -351,7 +362,7 @@ def _check_jerk(limits: dict[str, Any], task: dict[str, Any], kind: str) -> None
             raise ScenarioError(f"limits.{key}: only used by the S-curve phases of a goto "
                                 "task (profile = 'scurve', no blend_ratio); remove it")  # fmt: skip
         if scurve and key not in limits:
-            phases = "turns" if key.startswith("angular") else "drive"
+            phases = "turns" if key in MOBILE_ANGULAR else "drive"
             raise ScenarioError(f"limits.{key}: required by the scurve profile of a goto task "
                                 f"(the jerk limit of its {phases})")  # fmt: skip
 
@@ -379,7 +390,7 @@ def _outputs(table: Table | None) -> dict[str, Any]:
     defaults = {"csv": True, "json": False, "npz": False, "plot": True, "animation": "none",
                 "animation_view": "3d", "animation_fps": 10.0,
                 "animation_speed": 1.0, "ros2_bag": False, "ros2_stream": "none",
-                "storage": "mcap"}  # fmt: skip
+                "storage": "mcap", "sample_step": None}  # fmt: skip
     if table is None:
         return defaults
     outputs = {
@@ -396,6 +407,7 @@ def _outputs(table: Table | None) -> dict[str, Any]:
             "ros2_stream", "none", choices=("none", "joint_state", "point")
         ),
         "storage": table.string("storage", "mcap", choices=("mcap", "sqlite3")),
+        "sample_step": table.number("sample_step", None, positive=True),
     }
     if not 0.1 <= outputs["animation_fps"] <= 100.0:
         raise ScenarioError(f"{table.where('animation_fps')}: expected 0.1 to 100 frames/s, got "

@@ -11,6 +11,7 @@ not read, naming it. A key ending in ``_deg`` gives the same quantity in degrees
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -160,6 +161,28 @@ class Table:
             raise ScenarioError(f"{where}: expected a non-empty array of tables, got "
                                 f"{_describe(value)}")  # fmt: skip
         return [Table(item, f"{where}[{index}]") for index, item in enumerate(value)]
+
+    def renamed(self, names: Mapping[str, str]) -> Table:
+        """A copy of the table that reads keys under their old ``names`` as the new ones.
+
+        Each old name read gives a ``FutureWarning`` naming the new one; both at once
+        are refused.
+        """
+        data = dict(self.data)
+        for old, new in names.items():
+            for suffix in ("", "_deg"):
+                if old + suffix not in data:
+                    continue
+                if new in data or f"{new}_deg" in data:
+                    raise ScenarioError(f"{self.where(old + suffix)}: the old name of {new}; "
+                                        "give one of them")  # fmt: skip
+                warnings.warn(f"{self.where(old + suffix)} is now named {new + suffix}; the "
+                              "old name will stop working in a later release", FutureWarning,
+                              stacklevel=3)  # fmt: skip
+                data[new + suffix] = data.pop(old + suffix)
+        table = Table(data, self.path)
+        table._read = set(self._read)
+        return table
 
     def done(self) -> None:
         """Refuse every key that was not read."""

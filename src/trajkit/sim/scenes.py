@@ -27,7 +27,6 @@ __all__ = [
     "ArmScene",
     "MobileScene",
     "arm_scene",
-    "builtin_scene",
     "jackal_scene",
     "rrbot_scene",
     "ur5_scene",
@@ -53,15 +52,18 @@ class ArmScene:
     ----------
     robot : SerialChain
         Any chain of :mod:`trajkit.kinematics`; MuJoCo's joint positions equal its ``q``.
+        The five values below, when left out, are the robot's own (``robot.physical``,
+        as the built-in RRBot and UR5 carry them), else the defaults named here.
     link_radius : float, optional
         Radius of the links' capsules (m); default 3% of the arm's reach (of its size
         at mid-range with an unbounded prismatic joint), at least 1 cm.
     link_mass : float or array_like, shape (ndof,)
-        Mass of the link each joint moves (kg), spread evenly along it.
+        Mass of the link each joint moves (kg), spread evenly along it; default 1.
     damping : float or array_like
-        Viscous joint friction (N·m·s/rad, or N·s/m for a prismatic joint).
+        Viscous joint friction (N·m·s/rad, or N·s/m for a prismatic joint); default 0.1.
     armature : float or array_like
-        Rotor inertia reflected through the gearbox (kg·m²), added to each joint.
+        Rotor inertia reflected through the gearbox (kg·m²), added to each joint;
+        default 0.01.
     effort_limit : float or array_like, optional
         Largest total actuator torque (N·m) or force (N) per joint; none by default.
     gravity_compensation : bool
@@ -74,9 +76,9 @@ class ArmScene:
 
     robot: SerialChain
     link_radius: float | None = None
-    link_mass: ArrayLike = 1.0
-    damping: ArrayLike = 0.1
-    armature: ArrayLike = 0.01
+    link_mass: ArrayLike | None = None
+    damping: ArrayLike | None = None
+    armature: ArrayLike | None = None
     effort_limit: ArrayLike | None = None
     gravity_compensation: bool = True
     timestep: float = 0.001
@@ -88,6 +90,13 @@ class ArmScene:
                 f"robot must be a trajkit.kinematics SerialChain, got {type(self.robot).__name__}"
             )
         n = self.robot.ndof
+        own = self.robot.physical
+        defaults = {"link_radius": None, "link_mass": 1.0, "damping": 0.1, "armature": 0.01,
+                    "effort_limit": None}  # fmt: skip
+        for name, default in defaults.items():
+            if getattr(self, name) is None:
+                value = None if own is None else getattr(own, name)
+                object.__setattr__(self, name, default if value is None else value)
         radius = (
             max(0.03 * arm_extent(self.robot), 0.01)
             if self.link_radius is None
@@ -275,35 +284,22 @@ def arm_scene(robot: SerialChain, **parameters: object) -> ArmScene:
 
 
 def rrbot_scene(**parameters: object) -> ArmScene:
-    """ROS/Gazebo's RRBot as ``rrbot.xacro`` describes it: 1 kg links, damping 0.7 N·m·s/rad.
+    """ROS/Gazebo's RRBot with the physical data of ``rrbot.xacro`` (``RRBot().physical``).
 
-    The links are 0.1 m thick (capsules of radius 0.05 m) on a 2 m post, as in the
-    xacro; keyword arguments override any :class:`ArmScene` parameter.
+    1 kg links 0.1 m thick on a 2 m post, damping 0.7 N·m·s/rad; keyword arguments
+    override any :class:`ArmScene` parameter.
     """
-    values: dict[str, object] = {"link_radius": 0.05, "link_mass": 1.0, "damping": 0.7}
-    values.update(parameters)
-    return ArmScene(RRBot(), **values)  # type: ignore[arg-type]
+    return ArmScene(RRBot(), **parameters)  # type: ignore[arg-type]
 
 
 def ur5_scene(**parameters: object) -> ArmScene:
-    """The UR5 with the link masses of Universal Robots' description (3.7 ... 0.19 kg).
+    """The UR5 with the link masses of Universal Robots' description (``UR5().physical``).
 
     Keyword arguments override any :class:`ArmScene` parameter.
     """
-    values: dict[str, object] = {
-        "link_mass": [3.7, 8.393, 2.33, 1.219, 1.219, 0.1879],
-        "link_radius": 0.045,
-    }
-    values.update(parameters)
-    return ArmScene(UR5(), **values)  # type: ignore[arg-type]
+    return ArmScene(UR5(), **parameters)  # type: ignore[arg-type]
 
 
 def jackal_scene(**parameters: object) -> MobileScene:
     """A :class:`MobileScene` of :func:`~trajkit.mobile.jackal` (17 kg, 0.098 m wheels)."""
     return MobileScene(jackal(), **parameters)  # type: ignore[arg-type]
-
-
-def builtin_scene(name: str | None, robot: SerialChain) -> ArmScene:
-    """The scene of a built-in arm by its name (with its masses), else ``arm_scene(robot)``."""
-    presets = {"rrbot": rrbot_scene, "ur5": ur5_scene}
-    return presets[name]() if name in presets else arm_scene(robot)

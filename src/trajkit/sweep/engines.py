@@ -57,11 +57,11 @@ class Outcome:
 def plan_chunk(spec: SweepSpec, chunk: int) -> Outcome:
     """Plan every problem of ``chunk`` and encode its rows (runs in a worker)."""
     ids, inputs = spec.inputs(chunk)
-    period = spec.period if spec.keep == "samples" else None
+    step = spec.sample_step if spec.keep == "samples" else None
     # Extreme inputs (1e308, 1e-300) overflow on the way; the rows say so (NaN or inf
     # peaks are infeasible), so numpy's warnings would only bury the one-line output.
     with np.errstate(all="ignore"):
-        result = spec.plan.run(spec.robot, spec.options, inputs, period)
+        result = spec.plan.run(spec.robot, spec.options, inputs, step)
     failed = int(sum(1 for error in result.columns["error"] if error))
     infeasible = int((~result.columns["feasible"]).sum())
     rows = encode_chunk(spec, chunk, ids, inputs, result)

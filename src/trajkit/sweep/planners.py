@@ -25,6 +25,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -32,7 +33,10 @@ import numpy as np
 from trajkit._validation import FloatArray
 from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.limits import Report
+from trajkit.planners import CATALOG, OPTIONS, QUANTITIES
+from trajkit.planners import Planner as CatalogPlanner
 from trajkit.scenario.reader import ScenarioError, Table
+from trajkit.tolerances import LIMIT_RTOL, ROUNDING_RTOL
 
 __all__ = ["OPTIONAL", "PLANNERS", "ChunkResult", "Planner"]
 
@@ -45,7 +49,7 @@ class ChunkResult:
     """A chunk's rows, as columns, and optionally its sampled trajectories.
 
     ``samples`` is ``(values, lengths)``: ``values`` of shape ``(n, T, width)``
-    sampled every ``period`` from t = 0 (NaN past each problem's end) and the
+    sampled every ``step`` from t = 0 (NaN past each problem's end) and the
     number of valid samples of each.
     """
 
@@ -85,18 +89,14 @@ def _empty(n: int, width: int, quantities: tuple[str, ...]) -> dict[str, np.ndar
     return columns
 
 
-#: How far past its bound a peak may go and still count as kept: the ``rtol`` of
-#: :func:`trajkit.check`, whose verdict the problem-by-problem planners take.
-RTOL = 1e-9
-
-
 def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArray,
           peaks: dict[str, FloatArray], ratios: dict[str, FloatArray],
           verdict: np.ndarray | None = None) -> None:  # fmt: skip
     """Rows ``where``: durations, peaks ``(k, width)``, and their worst ``peak / bound``.
 
     ``verdict`` is each row's limit check (``Report.ok``); without it a row is
-    feasible when no ratio passes 1 by more than :data:`RTOL`, the check's own rule
+    feasible when no ratio passes 1 by more than
+    :data:`~trajkit.tolerances.LIMIT_RTOL`, the check's own rule
     for symmetric bounds.
     """
     columns["duration"][where] = duration
@@ -108,7 +108,7 @@ def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArra
     columns["worst_violation"][where] = np.maximum(worst, 0.0)
     # NaN (a peak that is not a number) is no proof of feasibility: `<=` says False;
     # nor is a plan without a finite duration.
-    kept = worst <= RTOL if verdict is None else verdict
+    kept = worst <= LIMIT_RTOL if verdict is None else verdict
     columns["feasible"][where] = kept & np.isfinite(duration)
 
 
@@ -196,8 +196,8 @@ MAX_SAMPLE_BYTES = 2**31
 _EVALUATION_BYTES = 2**26
 
 
-def _sample_counts(durations: FloatArray, period: float, width: int) -> np.ndarray:
-    """How many samples at ``0, period, ...`` fit each duration (1 if not planned).
+def _sample_counts(durations: FloatArray, step: float, width: int) -> np.ndarray:
+    """How many samples at ``0, step, ...`` fit each duration (1 if not planned).
 
     Rounded as ``Trajectory.sample`` rounds its grid. The counts are found in floating
     point and the chunk's room for them is checked before anything is allocated:
@@ -209,17 +209,17 @@ def _sample_counts(durations: FloatArray, period: float, width: int) -> np.ndarr
         The chunk's samples would take more than :data:`MAX_SAMPLE_BYTES`.
     """
     finite = np.where(np.isfinite(durations), durations, 0.0)
-    with np.errstate(over="ignore"):  # a denormal period: inf samples, refused below
-        counts = np.floor(finite / period * (1.0 + 1e-12)) + 1.0
+    with np.errstate(over="ignore"):  # a denormal step: inf samples, refused below
+        counts = np.floor(finite / step * (1.0 + ROUNDING_RTOL)) + 1.0
     longest = int(np.argmax(counts)) if counts.size else 0
     largest = float(counts[longest]) if counts.size else 1.0
     size = float(counts.size) * largest * width * 8.0
     if not size <= MAX_SAMPLE_BYTES:
         raise InvalidInputError(
-            f'keep = "samples" with period = {period:.6g} s: a {finite[longest]:.6g} s '
+            f'keep = "samples" with sample_step = {step:.6g} s: a {finite[longest]:.6g} s '
             f"trajectory has {largest:.6g} samples, and {counts.size} problems of up to "
             f"that many need {size / 2**30:.3g} GiB per chunk, more than the "
-            f"{MAX_SAMPLE_BYTES / 2**30:g} GiB allowed: use a smaller chunk or a longer period"
+            f"{MAX_SAMPLE_BYTES / 2**30:g} GiB allowed: use a smaller chunk or a longer sample_step"
         )
     return counts.astype(np.int64)
 
@@ -232,11 +232,11 @@ def _sample_buffer(n: int, count: int, width: int) -> tuple[FloatArray, np.ndarr
     return np.full((n, count, width), np.nan), np.zeros(n, dtype=np.int64)
 
 
-def _batch_samples(done: list[tuple[np.ndarray, Any]], n: int, width: int, period: float,
+def _batch_samples(done: list[tuple[np.ndarray, Any]], n: int, width: int, step: float,
                    durations: FloatArray) -> tuple[FloatArray, np.ndarray]:  # fmt: skip
-    counts = _sample_counts(durations, period, width)
+    counts = _sample_counts(durations, step, width)
     count = int(counts.max())
-    times = np.arange(count) * period
+    times = np.arange(count) * step
     values, lengths = _sample_buffer(n, count, width)
     for rows, plans in done:  # one evaluation per planned batch and slice of times
         own = counts[rows]
@@ -249,63 +249,80 @@ def _batch_samples(done: list[tuple[np.ndarray, Any]], n: int, width: int, perio
     return values, lengths
 
 
-def _sync(options: dict) -> str | None:
-    """The sweep file's ``sync`` option as the batch planners take it ("none" is None)."""
-    return None if options["sync"] == "none" else options["sync"]
+#: The batch rows' name of each catalog limit's quantity.
+_QUANTITY = {"vmax": "velocity", "amax": "acceleration", "jmax": "jerk"}
 
 
-def _floor(values: dict, rows: np.ndarray) -> FloatArray | None:
-    """Each problem's ``min_duration`` (s), or None when the sweep file gives none."""
-    return values["min_duration"][rows, 0] if "min_duration" in values else None
+def _row_values(entry: CatalogPlanner, values: dict, rows: np.ndarray | int) -> dict[str, Any]:
+    """The catalog planner's inputs for ``rows``: per-joint columns, one number per move."""
+    return {name: values[name][rows] if QUANTITIES[name].per_joint else values[name][rows, 0]
+            for name in values}  # fmt: skip
 
 
-def _run_trapezoid(robot: dict, options: dict, values: dict, period: float | None
-                   ) -> ChunkResult:  # fmt: skip
+def _run_catalog(entry: CatalogPlanner, robot: dict, options: dict, values: dict,
+                 step: float | None) -> ChunkResult:  # fmt: skip
+    """A catalog planner's chunk: one batch call where it has one, else problem by problem.
+
+    An exact ``duration`` is no batch planner's input: such moves are planned one by one.
+    Every limit given is checked; the peaks kept are those of the limited quantities.
+    A polynomial of a given duration is planned without its (optional) limits and then
+    checked against them, so that a move too fast for them is a row with its peaks
+    and worst violation rather than an error.
+    """
+    n, width = values["q0"].shape
+    given = [name for name in entry.limits if name in values]
+    quantities = tuple(_QUANTITY[name] for name in given)
+    if entry.batch is None or "duration" in values:
+        import trajkit as tk
+
+        check_only = set(given) - set(entry.needs) if "duration" in values else set()
+
+        def plan_one(i: int) -> tuple[Any, Report]:
+            inputs = _row_values(entry, values, i)
+            plan = entry.plan({k: v for k, v in inputs.items() if k not in check_only} | options)
+            limits = tk.Limits(**{_QUANTITY[name]: values[name][i] for name in given})
+            return plan, plan.check(limits)
+
+        return _one_by_one(n, width, quantities, plan_one, step, lambda p, t: p.position(t))
+
     from trajkit import batch
 
-    n, width = values["q0"].shape
-    quantities = ("velocity", "acceleration")
     columns = _empty(n, width, quantities)
+    planner = getattr(batch, entry.batch)
 
     def plan(rows: np.ndarray) -> Any:
-        return batch.trapezoidal(values["q0"][rows], values["qf"][rows], values["vmax"][rows],
-                                 values["amax"][rows], v0=values["v0"][rows],
-                                 vf=values["vf"][rows], sync=_sync(options),
-                                 min_duration=_floor(values, rows))  # fmt: skip
+        return planner(**_row_values(entry, values, rows), **options)
 
     def bounds(rows: np.ndarray) -> dict[str, FloatArray]:
-        return {"velocity": values["vmax"][rows], "acceleration": values["amax"][rows]}
+        return {_QUANTITY[name]: values[name][rows] for name in given}
 
     done = _batched(plan, n, columns, bounds, quantities)
     samples = None
-    if period is not None:
-        samples = _batch_samples(done, n, width, period, columns["duration"])
+    if step is not None:
+        samples = _batch_samples(done, n, width, step, columns["duration"])
     return ChunkResult(columns, samples)
 
 
-def _run_scurve(robot: dict, options: dict, values: dict, period: float | None) -> ChunkResult:
-    from trajkit import batch
+def _catalog_planner(entry: CatalogPlanner) -> Planner:
+    """The sweep's side of a catalog planner: its parameters, defaults and widths.
 
-    n, width = values["q0"].shape
-    quantities = ("velocity", "acceleration", "jerk")
-    columns = _empty(n, width, quantities)
+    ``q0``, ``qf`` and the limits the planner needs are required; an input with a
+    default takes it; the others are left out unless the sweep file gives them. A
+    sweep has no controller period, so the ``grid`` option is not offered.
+    """
+    names = ("q0", "qf", *entry.inputs, *entry.limits)
+    parameters: dict[str, Any] = {}
+    for name in names:
+        default = QUANTITIES[name].default
+        required = name in ("q0", "qf", *entry.needs)
+        parameters[name] = None if required else OPTIONAL if default is None else default
+    options = {name: (OPTIONS[name].default, OPTIONS[name].choices)
+               for name in entry.options if name != "grid"}  # fmt: skip
 
-    def plan(rows: np.ndarray) -> Any:
-        return batch.scurve(values["q0"][rows], values["qf"][rows], values["vmax"][rows],
-                            values["amax"][rows], values["jmax"][rows], v0=values["v0"][rows],
-                            vf=values["vf"][rows], a0=values["a0"][rows],
-                            af=values["af"][rows], sync=_sync(options),
-                            min_duration=_floor(values, rows))  # fmt: skip
+    def widths(robot: dict, options: dict) -> dict[str, int]:
+        return {name: robot["joints"] if QUANTITIES[name].per_joint else 1 for name in names}
 
-    def bounds(rows: np.ndarray) -> dict[str, FloatArray]:
-        return {"velocity": values["vmax"][rows], "acceleration": values["amax"][rows],
-                "jerk": values["jmax"][rows]}  # fmt: skip
-
-    done = _batched(plan, n, columns, bounds, quantities)
-    samples = None
-    if period is not None:
-        samples = _batch_samples(done, n, width, period, columns["duration"])
-    return ChunkResult(columns, samples)
+    return Planner(parameters, options, _joints_robot, widths, partial(_run_catalog, entry))
 
 
 # ------------------------------------------------------- problem-by-problem planners
@@ -314,7 +331,7 @@ def _one_by_one(
     width: int,
     quantities: tuple[str, ...],
     plan_one: Callable[[int], tuple[Any, Report]],
-    period: float | None,
+    step: float | None,
     sample: Callable[[Any, FloatArray], FloatArray],
 ) -> ChunkResult:
     """Plan each problem: ``plan_one(i)`` gives the plan and its limit check.
@@ -346,12 +363,12 @@ def _one_by_one(
         _fill(columns, where, np.array([plan.duration for plan in plans.values()]),
               {q: np.array(peaks[q]) for q in quantities},
               {q: np.array(ratios[q]) for q in quantities}, np.array(verdicts))  # fmt: skip
-    if period is None:
+    if step is None:
         return ChunkResult(columns)
-    counts = _sample_counts(columns["duration"], period, width)
+    counts = _sample_counts(columns["duration"], step, width)
     values, lengths = _sample_buffer(n, int(counts.max()), width)
     for i, plan in plans.items():
-        values[i, : counts[i]] = sample(plan, np.arange(counts[i]) * period)
+        values[i, : counts[i]] = sample(plan, np.arange(counts[i]) * step)
         lengths[i] = counts[i]
     return ChunkResult(columns, (values, lengths))
 
@@ -372,23 +389,7 @@ def _violation_ratio(report: Report) -> float:
     return worst
 
 
-def _run_polynomial(robot: dict, options: dict, values: dict, period: float | None
-                    ) -> ChunkResult:  # fmt: skip
-    import trajkit as tk
-
-    n, width = values["q0"].shape
-    law = {"cubic": tk.cubic, "quintic": tk.quintic, "septic": tk.septic}[options["profile"]]
-    quantities = ("velocity", "acceleration")
-
-    def plan_one(i: int) -> tuple[Any, Report]:
-        trajectory = law(values["q0"][i], values["qf"][i], float(values["duration"][i, 0]))
-        limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
-        return trajectory, trajectory.check(limits)
-
-    return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
-
-
-def _run_topp(robot: dict, options: dict, values: dict, period: float | None) -> ChunkResult:
+def _run_topp(robot: dict, options: dict, values: dict, step: float | None) -> ChunkResult:
     import trajkit as tk
 
     n, width = values["vmax"].shape
@@ -403,7 +404,7 @@ def _run_topp(robot: dict, options: dict, values: dict, period: float | None) ->
         timed = tk.topp(path, limits, grid=options["grid"])
         return timed, timed.check(limits)
 
-    return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
+    return _one_by_one(n, width, quantities, plan_one, step, lambda p, t: p.position(t))
 
 
 def _arm_robot(table: Table) -> dict[str, Any]:
@@ -414,7 +415,7 @@ def _arm_robot(table: Table) -> dict[str, Any]:
     return {"name": name, "joints": arm.ndof, "arm": arm}
 
 
-def _run_task_space(robot: dict, options: dict, values: dict, period: float | None
+def _run_task_space(robot: dict, options: dict, values: dict, step: float | None
                     ) -> ChunkResult:  # fmt: skip
     import trajkit as tk
     from trajkit.taskspace import Line, time_optimal
@@ -430,7 +431,7 @@ def _run_task_space(robot: dict, options: dict, values: dict, period: float | No
                             samples=options["samples"], grid=options["grid"])  # fmt: skip
         return move.trajectory, move.trajectory.check(limits)
 
-    return _one_by_one(n, width, quantities, plan_one, period, lambda p, t: p.position(t))
+    return _one_by_one(n, width, quantities, plan_one, step, lambda p, t: p.position(t))
 
 
 def _base_robot(table: Table) -> dict[str, Any]:
@@ -440,7 +441,7 @@ def _base_robot(table: Table) -> dict[str, Any]:
     return {"name": name, "model": BASES[name]()}
 
 
-def _run_mobile(robot: dict, options: dict, values: dict, period: float | None) -> ChunkResult:
+def _run_mobile(robot: dict, options: dict, values: dict, step: float | None) -> ChunkResult:
     from trajkit import mobile
 
     model = robot["model"]
@@ -463,7 +464,7 @@ def _run_mobile(robot: dict, options: dict, values: dict, period: float | None) 
         state = plan.evaluate(t)
         return np.stack([state.x, state.y], axis=1)
 
-    return _one_by_one(n, 2, quantities, plan_one, period, sample)
+    return _one_by_one(n, 2, quantities, plan_one, step, sample)
 
 
 def _base_report(report: Report) -> Report:
@@ -502,31 +503,9 @@ def _model_limit(attribute: str, key: str) -> Callable[[dict], float]:
     return default
 
 
-_SYNC = ("time", ("time", "phase", "time_if_necessary", "none"))
-
-#: The planners a sweep can name.
+#: The planners a sweep can name: the catalog's, and three of its own.
 PLANNERS: dict[str, Planner] = {
-    "trapezoid": Planner(
-        {"q0": None, "qf": None, "vmax": None, "amax": None, "v0": 0.0, "vf": 0.0,
-         "min_duration": OPTIONAL},
-        {"sync": _SYNC}, _joints_robot,
-        _joint_widths(("q0", "qf", "vmax", "amax", "v0", "vf"), min_duration=1),
-        _run_trapezoid,
-    ),
-    "scurve": Planner(
-        {"q0": None, "qf": None, "vmax": None, "amax": None, "jmax": None, "v0": 0.0,
-         "vf": 0.0, "a0": 0.0, "af": 0.0, "min_duration": OPTIONAL},
-        {"sync": _SYNC}, _joints_robot,
-        _joint_widths(("q0", "qf", "vmax", "amax", "jmax", "v0", "vf", "a0", "af"),
-                      min_duration=1), _run_scurve,
-    ),
-    "polynomial": Planner(
-        {"q0": None, "qf": None, "duration": None, "vmax": None, "amax": None},
-        {"profile": ("quintic", ("cubic", "quintic", "septic"))}, _joints_robot,
-        lambda robot, options: {"q0": robot["joints"], "qf": robot["joints"], "duration": 1,
-                                "vmax": robot["joints"], "amax": robot["joints"]},
-        _run_polynomial,
-    ),
+    **{name: _catalog_planner(entry) for name, entry in CATALOG.items()},
     "topp": Planner(
         {"waypoints": None, "vmax": None, "amax": None},
         {"points": 5, "grid": 200}, _joints_robot,

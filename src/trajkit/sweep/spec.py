@@ -4,12 +4,13 @@ A sweep file is TOML::
 
     [sweep]
     name = "six-joint trapezoids"
-    planner = "trapezoid"   # trapezoid, scurve, polynomial, topp, task_space, mobile
+    planner = "trapezoid"   # cubic, quintic, septic, trapezoid, scurve (trajkit.planners),
+                            # or topp, task_space, mobile
     problems = 100000       # default: one per combination of the grids and value lists
     chunk = 10000           # problems per output file (and per task)
     seed = 1
-    keep = "summary"        # or "samples": also the sampled trajectories, at `period`
-    period = 0.01
+    keep = "summary"        # or "samples": also the sampled trajectories, every
+    sample_step = 0.01      #   sample_step seconds
 
     [robot]
     joints = 6              # joint planners; task_space: name = "ur5"; mobile: name = "jackal"
@@ -23,13 +24,15 @@ A sweep file is TOML::
     amax = { grid = [1.0, 4.0, 4] }    # start, stop, count
 
 The planner's options (``sync`` for trapezoid and S-curve: ``"time"``, ``"phase"``,
-``"time_if_necessary"`` or ``"none"``; ``profile``, ``points`` and ``grid``,
-``samples``) go in ``[sweep]`` too; they are fixed for the sweep.
+``"time_if_necessary"`` or ``"none"``; ``points`` and ``grid``, ``samples``) go in
+``[sweep]`` too; they are fixed for the sweep.
 
-The trapezoid's parameters are ``q0``, ``qf``, ``vmax``, ``amax``, ``v0`` and ``vf``
-(default 0); the S-curve's the same and ``jmax``, ``a0`` and ``af`` (default 0).
-Both take ``min_duration`` (s, one number per problem): each move at least that
-long; without it, every move is time-optimal.
+A joint planner's parameters are those of its :data:`trajkit.planners.CATALOG`
+entry, named as in Python: ``q0``, ``qf``, the limits ``vmax``, ``amax``, ``jmax``
+(required where the planner needs them, checked wherever given), ``v0``, ``vf``
+(default 0), ``a0``, ``af`` (default 0; quintic, septic, scurve), ``duration`` (s,
+one number per problem: exact) and ``min_duration`` (trapezoid, scurve: a floor).
+Trapezoids and S-curves without an exact duration are planned a chunk at a time.
 
 Grids and value lists combine as a Cartesian product, problem ``i`` taking
 combination ``i mod (their count)``; random parameters are drawn, for each chunk,
@@ -50,6 +53,7 @@ from typing import Any
 import numpy as np
 
 from trajkit._validation import FloatArray
+from trajkit.samples import DEFAULT_STEP
 from trajkit.scenario.reader import ScenarioError, Table
 from trajkit.sweep.planners import OPTIONAL, PLANNERS, Planner
 
@@ -102,8 +106,8 @@ class SweepSpec:
         Every parameter of the planner, fixed or swept.
     problems, chunk, seed : int
     keep : {"summary", "samples"}
-    period : float
-        Sample period (s) when keeping samples.
+    sample_step : float
+        The sampling step (s) when keeping samples.
     text : str
         The canonical form the resume check compares.
     """
@@ -118,7 +122,7 @@ class SweepSpec:
     chunk: int
     seed: int
     keep: str
-    period: float
+    sample_step: float
     text: str
 
     @property
@@ -212,8 +216,11 @@ def parse(data: dict[str, Any]) -> SweepSpec:
 
 def _parse(data: dict[str, Any]) -> SweepSpec:
     root = Table(data, "")
-    head = root.table("sweep", required=True)
+    head = root.table("sweep", required=True).renamed({"period": "sample_step"})
     name = head.string("name", "sweep")
+    if head.data.get("planner") == "polynomial":  # its old name, with profile = "..."
+        raise SweepError(f"{head.where('planner')}: 'polynomial' is now named by its law: "
+                         "planner = 'cubic', 'quintic' or 'septic'")  # fmt: skip
     planner_name = head.string("planner", choices=sorted(PLANNERS))
     planner = PLANNERS[planner_name]
     options = {key: _option(head, key, default) for key, default in planner.options.items()}
@@ -269,7 +276,7 @@ def _parse(data: dict[str, Any]) -> SweepSpec:
                          )  # fmt: skip
     seed = _count(head, "seed", 0, minimum=0)
     keep = head.string("keep", "summary", choices=("summary", "samples"))
-    period = head.number("period", 0.01, positive=True)
+    sample_step = head.number("sample_step", DEFAULT_STEP, positive=True)
     head.done()
     root.done()
     canonical = {
@@ -281,10 +288,11 @@ def _parse(data: dict[str, Any]) -> SweepSpec:
                   None if d.choices is None else d.choices.tolist()]
             for key, d in sorted(parameters.items())
         },
-        "problems": problems, "chunk": chunk, "seed": seed, "keep": keep, "period": period,
+        "problems": problems, "chunk": chunk, "seed": seed, "keep": keep,
+        "sample_step": sample_step,
     }  # fmt: skip
     return SweepSpec(name, planner_name, options, robot, widths, parameters, problems, chunk,
-                     seed, keep, period, json.dumps(canonical, sort_keys=True))  # fmt: skip
+                     seed, keep, sample_step, json.dumps(canonical, sort_keys=True))  # fmt: skip
 
 
 def _option(head: Table, key: str, default: Any) -> Any:

@@ -265,7 +265,9 @@ def _write_samples(spec: SweepSpec, out: Path, chunk: int, ids: np.ndarray,
     staging = Path(tempfile.mkdtemp(dir=folder, prefix=f".{target.name}."))
     try:
         group = zarr.open_group(str(staging), mode="w")
-        group.attrs.update({"period": spec.period, "first_problem": int(ids[0]) if ids.size else 0})
+        group.attrs.update(
+            {"sample_step": spec.sample_step, "first_problem": int(ids[0]) if ids.size else 0}
+        )
         group.create_array("problem", data=ids)
         group.create_array("length", data=lengths)
         rows = max(1, min(values.shape[0], 256))
@@ -309,7 +311,7 @@ def read_samples(out: str | Path, problem: int) -> tuple[np.ndarray, np.ndarray]
     Returns
     -------
     times, values : ndarray
-        ``times`` of shape ``(T,)`` (s) from 0 every period; ``values`` ``(T, width)``.
+        ``times`` of shape ``(T,)`` (s) from 0 every sample step; ``values`` ``(T, width)``.
 
     Raises
     ------
@@ -351,7 +353,8 @@ class _Damaged(Exception):
 
 def _read_problem(zarr: Any, path: Path, problem: int) -> tuple[np.ndarray, np.ndarray]:
     group = zarr.open_group(str(path), mode="r")
-    period = float(group.attrs["period"])
+    # Stores written before the step had its own name call it "period".
+    period = float(group.attrs.get("sample_step", group.attrs.get("period", np.nan)))
     first = int(group.attrs["first_problem"])
     ids, lengths, values = group["problem"], group["length"], group["values"]
     if not (np.isfinite(period) and period > 0):

@@ -29,6 +29,7 @@ from trajkit.limits import Report, check
 from trajkit.profiles.polynomial import hermite_pieces
 from trajkit.rotations import rotation_error
 from trajkit.taskspace.motion import TaskState, TaskTrajectory
+from trajkit.tolerances import LIMIT_RTOL
 from trajkit.trajectory import Trajectory
 
 FloatArray = NDArray[np.float64]
@@ -176,7 +177,7 @@ def _rates(
 
 
 def _first_violation(
-    t: FloatArray, q: FloatArray, qd: FloatArray, robot: SerialChain, rtol: float = 1e-9
+    t: FloatArray, q: FloatArray, qd: FloatArray, robot: SerialChain, rtol: float = LIMIT_RTOL
 ) -> tuple[float, int, str] | None:
     first: tuple[float, int, str] | None = None
     lower, upper = robot.lower, robot.upper

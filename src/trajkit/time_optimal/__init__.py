@@ -40,6 +40,7 @@ from trajkit.time_optimal.timing import (
     rest_states,
     timed,
 )
+from trajkit.tolerances import JUMP_RTOL, LIMIT_RTOL, ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
 __all__ = ["GeometricPath", "topp"]
@@ -51,8 +52,6 @@ _MAX_SPEED = float(np.sqrt(np.finfo(np.float64).max))
 MAX_GRID = 100_000
 #: Rounds of local tightening before the uniform slow-down.
 _ROUNDS = 12
-#: A peak within this fraction of its bound counts as kept (check()'s default rtol).
-_KEPT = 1e-9
 #: Tightened bounds aim this fraction inside the bound, so a round rarely falls short.
 _MARGIN = 1e-6
 
@@ -224,7 +223,7 @@ def optimal_x(
     for rounds in range(1, _ROUNDS + 1):
         x = stages.solve(x_start, x_end, velocity_factor, acceleration_scale)
         ratio_v, ratio_a = interval_peaks(path, s, x, velocity, acceleration)
-        over_v, over_a = ratio_v > 1.0 + _KEPT, ratio_a > 1.0 + _KEPT
+        over_v, over_a = ratio_v > 1.0 + LIMIT_RTOL, ratio_a > 1.0 + LIMIT_RTOL
         if not (over_v.any() or over_a.any()):
             return x, rounds, 1.0
         acceleration_scale[over_a] /= ratio_a[over_a] * (1.0 + _MARGIN)
@@ -243,7 +242,7 @@ def optimal_x(
             "the timing could not be made to keep every limit between grid points with "
             "non-zero boundary speeds: use a finer grid or lower boundary speeds"
         )
-    return x, _ROUNDS, float(max(ratio_v.max(), np.sqrt(ratio_a.max()), 1.0) * (1 + 1e-12))
+    return x, _ROUNDS, float(max(ratio_v.max(), np.sqrt(ratio_a.max()), 1.0) * (1 + ROUNDING_RTOL))
 
 
 def path_channels(
@@ -286,7 +285,7 @@ def jumps(path: Trajectory, order: int) -> FloatArray:
     left = path.evaluate(np.nextafter(inner, -np.inf), order)
     right = path.evaluate(inner, order)
     scale = max(float(np.abs(path.evaluate(path.breakpoints, order)).max()), 1.0)
-    return inner[np.abs(left - right).max(axis=1) > 1e-9 * scale]
+    return inner[np.abs(left - right).max(axis=1) > JUMP_RTOL * scale]
 
 
 def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
@@ -348,7 +347,7 @@ def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
             )
     # The path's own breakpoints are grid points, so every interval lies in one piece.
     points = np.union1d(points, breakpoints)
-    keep = np.append(np.diff(points) > 1e-12 * (end - start), True)
+    keep = np.append(np.diff(points) > ROUNDING_RTOL * (end - start), True)
     out = points[keep]
     out[-1] = end
     return out

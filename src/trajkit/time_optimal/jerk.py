@@ -37,6 +37,7 @@ from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
 from trajkit.limits import Limits
 from trajkit.time_optimal.timing import compose, pieces_of, rest_states
+from trajkit.tolerances import ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
 __all__ = ["moving_average", "smoothed"]
@@ -119,7 +120,7 @@ def _scale_to(curve: Trajectory, limits: Limits) -> float:
         need = max(need, float(report.ratios(quantity).max()) ** (1.0 / order))
     if not np.isfinite(need) or need <= 0.0:
         raise InfeasibleError("the smoothed timing has no finite peak to scale to the limits")
-    return need * (1.0 + 1e-12)
+    return need * (1.0 + ROUNDING_RTOL)
 
 
 def moving_average(times: FloatArray, sigma: FloatArray, window: float
@@ -180,10 +181,10 @@ def _distinct(edges: FloatArray) -> FloatArray:
     ``knot + w/2`` and ``knot' - w/2`` can be equal but for rounding; a piece between
     them would have no length.
     """
-    keep = np.append(True, np.diff(edges) > 1e-12 * (edges[-1] - edges[0]))
+    keep = np.append(True, np.diff(edges) > ROUNDING_RTOL * (edges[-1] - edges[0]))
     keep[-1] = True
     out = edges[keep]
-    if out.size > 2 and out[-1] - out[-2] <= 1e-12 * (out[-1] - out[0]):
+    if out.size > 2 and out[-1] - out[-2] <= ROUNDING_RTOL * (out[-1] - out[0]):
         out = np.delete(out, -2)
     return out
 

@@ -30,6 +30,7 @@ import numpy as np
 
 from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
+from trajkit.tolerances import LIMIT_RTOL, ROUNDING_RTOL
 
 __all__ = ["Channels", "Stages"]
 
@@ -230,7 +231,7 @@ class Stages:
             acceleration_scale = np.ones(n - 1)
         cap = self.caps(velocity_factor, acceleration_scale)
         for name, x, allowed in (("start_speed", x_start, cap[0]), ("end_speed", x_end, cap[-1])):
-            if x > allowed * (1 + 1e-9):
+            if x > allowed * (1 + LIMIT_RTOL):
                 raise InfeasibleError(
                     f"{name} {np.sqrt(x):g} breaks the limits there: at most "
                     f"{np.sqrt(allowed):.6g} (path parameter per second)"
@@ -243,7 +244,7 @@ class Stages:
         reach = np.empty(n)
         reach[-1] = end
         reach[:-1] = recurrence(a, b, cap[-2::-1], end)[::-1]
-        if x_start > reach[0] * (1 + 1e-9):
+        if x_start > reach[0] * (1 + LIMIT_RTOL):
             raise InfeasibleError(
                 f"start_speed {np.sqrt(x_start):g} is too fast to keep the limits along the path"
             )
@@ -251,7 +252,7 @@ class Stages:
         x = np.empty(n)
         x[0] = min(x_start, reach[0])
         x[1:] = recurrence(self._grow, self._push * scale, reach[1:], x[0])
-        if x[-1] < x_end * (1 - 1e-9):
+        if x[-1] < x_end * (1 - LIMIT_RTOL):
             raise InfeasibleError(
                 f"end_speed {np.sqrt(x_end):g} is too fast to reach within the limits: at most "
                 f"{np.sqrt(x[-1]):.6g} (path parameter per second)"
@@ -354,7 +355,7 @@ def _feasible_below(
             u_hi, u_lo = upper[todo] + grow * here, lower[todo] + grow * here
         k, j = np.argmin(u_hi, axis=1), np.argmax(u_lo, axis=1)
         room = u_hi[rows, k] - u_lo[rows, j]
-        short = room < -1e-12 * np.maximum(np.abs(u_hi[rows, k]), 1e-300)
+        short = room < -ROUNDING_RTOL * np.maximum(np.abs(u_hi[rows, k]), 1e-300)
         fall = grow[rows, j] - grow[rows, k]  # how fast the room shrinks with x
         with np.errstate(divide="ignore", invalid="ignore"):
             root = np.where(fall > 0, x[todo] + room / np.where(fall > 0, fall, 1.0), 0.0)
@@ -404,7 +405,7 @@ def recurrence(a: FloatArray, b: FloatArray, high: FloatArray, y0: float) -> Flo
         before = np.concatenate([[y0], y[:-1]])
         with np.errstate(invalid="ignore", over="ignore"):
             exact = np.clip((a * before[:, None] + b).min(axis=1), 0.0, high)
-        missed = np.flatnonzero(exact < y - 1e-12 * np.abs(y))
+        missed = np.flatnonzero(exact < y - ROUNDING_RTOL * np.abs(y))
         if missed.size == 0:
             return y
         _take_all(pieces, a, b, missed)
@@ -480,7 +481,7 @@ def _dip(a: FloatArray, b: FloatArray, y: FloatArray, envelope: FloatArray
     lowest = np.argmin(values, axis=1)
     value = values[np.arange(y.size), lowest]
     with np.errstate(invalid="ignore"):
-        below = value < envelope - 1e-12 * np.abs(envelope)
+        below = value < envelope - ROUNDING_RTOL * np.abs(envelope)
     return lowest, below
 
 
