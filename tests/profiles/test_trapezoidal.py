@@ -580,8 +580,10 @@ def test_standing_still_at_a_velocity_limit_leaves_room_for_the_long_way_round()
 
 
 @pytest.mark.parametrize("side", [-1.0, 1.0])
-@pytest.mark.parametrize(("speed", "back", "amax"), [(25.0, 0.01, 0.01171875), (27.0, 0.01, 0.01),
-                                                     (1.0, 0.5, 2.0), (3.0, 3.0, 0.25)])
+@pytest.mark.parametrize(
+    ("speed", "back", "amax"),
+    [(25.0, 0.01, 0.01171875), (27.0, 0.01, 0.01), (1.0, 0.5, 2.0), (3.0, 3.0, 0.25)],
+)
 def test_standing_at_either_velocity_limit_synchronizes_the_long_way_round(side, speed, back,
                                                                            amax):  # fmt: skip
     # The family of the case above, on both sides and with a partner needing less time
