@@ -25,6 +25,7 @@ FLOORS = {
         "trajkit._poly", "trajkit._validation", "trajkit._periods", "trajkit.errors",
         "trajkit.limits", "trajkit.trajectory", "trajkit.samples", "trajkit.rotations",
         "trajkit.io.atomic", "trajkit.io.table", "trajkit.progress", "trajkit.tolerances",
+        "trajkit.curve",
     ),
     "domain": (
         "trajkit.profiles", "trajkit.time_optimal", "trajkit.kinematics", "trajkit.taskspace",

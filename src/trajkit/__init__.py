@@ -10,6 +10,7 @@ import importlib
 from typing import Any
 
 from trajkit import batch, online
+from trajkit.curve import Curve
 from trajkit.errors import (
     ContinuityWarning,
     InfeasibleError,
@@ -40,6 +41,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "ContinuityWarning",
+    "Curve",
     "Extrema",
     "InfeasibleError",
     "InvalidInputError",

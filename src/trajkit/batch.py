@@ -30,6 +30,7 @@ from trajkit._validation import (
     finite_array,
     positive_scalar,
 )
+from trajkit.curve import Curve
 from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import engine, limited
@@ -40,7 +41,7 @@ from trajkit.trajectory import Trajectory
 __all__ = ["BatchTrajectory", "scurve", "trapezoidal", "velocity_change"]
 
 
-class BatchTrajectory:
+class BatchTrajectory(Curve):
     """``B`` planned problems of ``ndof`` joints each, stored as phase tables.
 
     Attributes
@@ -129,21 +130,10 @@ class BatchTrajectory:
         )
         return out[:, 0, :] if scalar else out
 
-    def position(self, t: ArrayLike) -> FloatArray:
-        """Positions of every problem at ``t``."""
-        return self.evaluate(t, 0)
-
-    def velocity(self, t: ArrayLike) -> FloatArray:
-        """Velocities of every problem at ``t``."""
-        return self.evaluate(t, 1)
-
-    def acceleration(self, t: ArrayLike) -> FloatArray:
-        """Accelerations of every problem at ``t``."""
-        return self.evaluate(t, 2)
-
-    def jerk(self, t: ArrayLike) -> FloatArray:
-        """Jerks of every problem at ``t`` (zero between switches of a trapezoid)."""
-        return self.evaluate(t, 3)
+    @property
+    def end_time(self) -> float:
+        """The longest problem's duration (s): every problem holds its end state after its own."""
+        return float(self.durations.max()) if self.durations.size else 0.0
 
     def __getitem__(self, i: int) -> Trajectory:
         """Problem ``i`` as an ordinary Trajectory (the same pieces its single planner builds)."""

@@ -23,6 +23,7 @@ from trajkit._validation import (
     joint_vector,
     positive_scalar,
 )
+from trajkit.curve import Curve
 from trajkit.errors import ContinuityWarning, InvalidInputError
 from trajkit.tolerances import BOUNDARY_ATOL, BOUNDARY_RTOL, JUMP_RTOL
 
@@ -71,7 +72,7 @@ class Extrema:
         return np.maximum(np.abs(self.minimum), np.abs(self.maximum))
 
 
-class Trajectory:
+class Trajectory(Curve):
     """An N-DoF piecewise polynomial ``q(t)``, the object every trajkit planner returns.
 
     Piece ``i`` covers ``breakpoints[i] <= t <= breakpoints[i + 1]`` and is the
@@ -401,22 +402,6 @@ class Trajectory:
                 result[np.ix_(given, at)] = row[given, np.newaxis]
         # Joint-major result transposed: a (n, ndof) view, no copy.
         return result[:, 0] if times.ndim == 0 else result.T
-
-    def position(self, t: ArrayLike) -> FloatArray:
-        """Position at ``t`` (see :meth:`evaluate` for shapes)."""
-        return self.evaluate(t, 0)
-
-    def velocity(self, t: ArrayLike) -> FloatArray:
-        """Velocity at ``t`` (per second)."""
-        return self.evaluate(t, 1)
-
-    def acceleration(self, t: ArrayLike) -> FloatArray:
-        """Acceleration at ``t`` (per second squared)."""
-        return self.evaluate(t, 2)
-
-    def jerk(self, t: ArrayLike) -> FloatArray:
-        """Jerk at ``t`` (per second cubed)."""
-        return self.evaluate(t, 3)
 
     def __call__(self, t: ArrayLike) -> FloatArray:
         """Position at ``t``; the same as :meth:`position`."""

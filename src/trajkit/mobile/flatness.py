@@ -17,13 +17,14 @@ in general, so there are no closed-form extrema.
 
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
+from abc import abstractmethod
 from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, finite_array, increasing_times, positive_scalar
+from trajkit.curve import Curve
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
 from trajkit.mobile.models import Model, resolve_model, wrap_angle
@@ -65,7 +66,7 @@ _MAX_ASPECT = 1e6
 _LARGEST = 1e60
 
 
-class FlatOutput(ABC):
+class FlatOutput(Curve):
     """A smooth planar curve in time, ``p(t) = (x(t), y(t))`` for ``t`` in [0, duration]."""
 
     @property
@@ -73,14 +74,14 @@ class FlatOutput(ABC):
     def duration(self) -> float:
         """Length of the time interval (s)."""
 
-    @abstractmethod
-    def evaluate(self, t: FloatArray, order: int) -> FloatArray:
-        """The ``order``-th time derivative (any order >= 0) at times ``t`` (n,): (n, 2)."""
-
     @property
-    def breakpoints(self) -> FloatArray:
-        """Times where a derivative may jump (always includes 0 and the duration)."""
-        return np.array([0.0, self.duration])
+    def end_time(self) -> float:
+        """The duration (s): flat outputs start at 0."""
+        return self.duration
+
+    @abstractmethod
+    def evaluate(self, t: FloatArray, order: int = 0) -> FloatArray:
+        """The ``order``-th time derivative (any order >= 0) at times ``t`` (n,): (n, 2)."""
 
 
 class FigureEight(FlatOutput):

@@ -8,12 +8,13 @@ guaranteed, not sampled.
 
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
+from abc import abstractmethod
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from trajkit._validation import finite_array, finite_scalar, positive_scalar
+from trajkit.curve import Curve
 from trajkit.errors import InvalidInputError
 
 FloatArray = NDArray[np.float64]
@@ -53,8 +54,17 @@ def _plane(normal: ArrayLike, x_axis: ArrayLike | None) -> tuple[FloatArray, Flo
     return e1, np.cross(n, e1)
 
 
-class Path(ABC):
-    """A curve ``p(u)``, ``u`` in [0, 1], in the workspace (length unit of the robot)."""
+class Path(Curve):
+    """A curve ``p(u)``, ``u`` in [0, 1], in the workspace (length unit of the robot).
+
+    As a :class:`~trajkit.curve.Curve` its "time" is the parameter ``u``: it starts at 0
+    and ends at 1, and derivatives are taken with respect to ``u`` (orders 0 to 2).
+    """
+
+    @property
+    def end_time(self) -> float:
+        """The path parameter's end, 1."""
+        return 1.0
 
     @abstractmethod
     def evaluate(self, u: ArrayLike, order: int = 0) -> FloatArray:
