@@ -16,7 +16,7 @@ states), so it is the same work that is timed.
      interleaved problem by problem; median us per call over problems x repeats.
 4.   ``tk.batch.scurve`` (random velocities) on B problems in one call (all numba
      threads, and one thread) vs ruckig in a Python loop: problems per second.
-5.   As 4 with ``dt=0.001``, beside ruckig's discrete durations
+5.   As 4 with ``period=0.001``, beside ruckig's discrete durations
      (``Ruckig(6, 0.001)``, ``DurationDiscretization.Discrete``). The batch
      planner puts every switching time on the grid (``grid="switches"``), which
      may cost whole periods over ruckig's duration-only grid: the difference is
@@ -130,10 +130,10 @@ def warm_up(p: dict[str, np.ndarray]) -> None:
         ("tk.trapezoidal", lambda: tk.trapezoidal(p["q0"][0], p["qf"][0], *lim[:2])),
         (
             "tk.scurve grid=duration",
-            lambda: tk.scurve(p["q0"][0], p["qf"][0], *lim, dt=DT, grid="duration"),
+            lambda: tk.scurve(p["q0"][0], p["qf"][0], *lim, period=DT, grid="duration"),
         ),
         ("tk.batch.scurve", lambda: tk.batch.scurve(few["q0"], few["qf"], *lim)),
-        ("tk.batch.scurve dt", lambda: tk.batch.scurve(few["q0"], few["qf"], *lim, dt=DT)),
+        ("tk.batch.scurve dt", lambda: tk.batch.scurve(few["q0"], few["qf"], *lim, period=DT)),
         ("online update", lambda: tk.online.Generator(NDOF, DT, *lim).update(p["qf"][0])),
     ]
     total = 0.0
@@ -200,15 +200,15 @@ def batch_calls(p: dict[str, np.ndarray], count: int, dt_count: int, repeats: in
 
     def plan(n: int, dt: float | None, grid: str = "switches"):
         return lambda: tk.batch.scurve(
-            p["q0"][:n], p["qf"][:n], *lim, v0=p["v0"][:n], vf=p["vf"][:n], dt=dt, grid=grid
+            p["q0"][:n], p["qf"][:n], *lim, v0=p["v0"][:n], vf=p["vf"][:n], period=dt, grid=grid
         )
 
     threads = numba.get_num_threads()
     header("batch, random v0 and vf", "problems per second, 1e3")
     cases = (
         ("4 tk.batch.scurve", count, None, "switches"),
-        ("5 with dt=0.001", dt_count, DT, "switches"),
-        ("5b dt, grid='duration'", count, DT, "duration"),  # ruckig's discrete durations
+        ("5 with period=0.001", dt_count, DT, "switches"),
+        ("5b period, grid='duration'", count, DT, "duration"),  # ruckig's discrete durations
     )
     for label, n, dt, grid in cases:
         ours_d = plan(n, dt, grid)().durations
@@ -246,7 +246,7 @@ def grid_check(p, n: int, dt: float, ours_d, theirs_d, periods) -> None:
     sample = min(n, 200)
     grid_d = [
         tk.scurve(
-            p["q0"][i], p["qf"][i], *lim, v0=p["v0"][i], vf=p["vf"][i], dt=dt, grid="duration"
+            p["q0"][i], p["qf"][i], *lim, v0=p["v0"][i], vf=p["vf"][i], period=dt, grid="duration"
         ).duration
         for i in range(sample)
     ]

@@ -65,7 +65,7 @@ def test_seed001_quantized_trapezoid_on_a_six_joint_arm():
     vmax = np.radians([7.0, 7.0, 7.0, 3.5, 3.5, 3.5])
     amax = np.radians([4.0, 4.0, 4.0, 2.0, 2.0, 2.0])
     planned = tk.trapezoidal(np.zeros(6), qf, vmax, amax, sync="phase")
-    on_grid = tk.trapezoidal(np.zeros(6), qf, vmax, amax, sync="phase", dt=0.002)
+    on_grid = tk.trapezoidal(np.zeros(6), qf, vmax, amax, sync="phase", period=0.002)
     result = discretization_error(UR5(), planned, 0.002, quantized=on_grid)
     assert isinstance(result, DiscretizationError)
     assert result.quantized_duration == pytest.approx(14.608, rel=EXACT)

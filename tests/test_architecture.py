@@ -25,7 +25,7 @@ FLOORS = {
         "trajkit._poly", "trajkit._validation", "trajkit._periods", "trajkit.errors",
         "trajkit.limits", "trajkit.trajectory", "trajkit.samples", "trajkit.rotations",
         "trajkit.io.atomic", "trajkit.io.table", "trajkit.progress", "trajkit.tolerances",
-        "trajkit.curve",
+        "trajkit.curve", "trajkit.renamed",
     ),
     "domain": (
         "trajkit.profiles", "trajkit.time_optimal", "trajkit.kinematics", "trajkit.taskspace",

@@ -92,7 +92,7 @@ def test_shapes(B, ndof):
         assert np.shape(plans.info[key]) == shape(B, ndof), key
     assert plans.info["planner"] == "trapezoidal"
     assert plans.info["sync"] == "time"
-    assert plans.info["dt"] is None
+    assert plans.info["period"] is None
 
 
 def test_trapezoid_jerk_is_zero():
@@ -112,9 +112,9 @@ CASES = {
     "asymmetric, time": ({"asymmetric": True}, {"sync": "time"}),
     "asymmetric rest, phase": ({"asymmetric": True, "moving": False, "still": 0.0},
                                {"sync": "phase"}),
-    "rest, time, dt": ({"moving": False}, {"sync": "time", "dt": 0.01}),
-    "rest, none, dt": ({"moving": False}, {"sync": None, "dt": 0.002}),
-    "rest, phase, dt": ({"moving": False, "still": 0.0}, {"sync": "phase", "dt": 0.005}),
+    "rest, time, dt": ({"moving": False}, {"sync": "time", "period": 0.01}),
+    "rest, none, dt": ({"moving": False}, {"sync": None, "period": 0.002}),
+    "rest, phase, dt": ({"moving": False, "still": 0.0}, {"sync": "phase", "period": 0.005}),
 }  # fmt: skip
 
 
@@ -136,8 +136,8 @@ def test_durations_and_plans_equal_planning_one_by_one(case):
         )
         limiting = one.info["limiting_joint"]
         assert plans.info["limiting_joint"][i] == (-1 if limiting is None else limiting)
-    if "dt" in kwargs:
-        dt = kwargs["dt"]
+    if "period" in kwargs:
+        dt = kwargs["period"]
         for values in (plans.durations, plans.info["phase_times"]):
             steps = np.round(values / dt)
             assert np.all(np.abs(values - steps * dt) <= DT_MULTIPLE * np.maximum(values, dt))
@@ -401,8 +401,8 @@ INVALID = [
     ({"amax": float("inf")}, "amax must be finite"),
     ({"sync": "phases"},
      "sync must be 'time', 'phase', 'time_if_necessary', 'none' or None, got 'phases'"),
-    ({"dt": 0.0}, "dt must be > 0"),
-    ({"dt": -1.0}, "dt must be > 0"),
+    ({"period": 0.0}, "period must be > 0"),
+    ({"period": -1.0}, "period must be > 0"),
 ]  # fmt: skip
 
 
@@ -472,14 +472,14 @@ def test_grid_duration_puts_only_the_durations_on_the_period_grid(planner):
     q0, qf = rng.uniform(-2.0, 2.0, (2, 40, 3))
     v0 = rng.uniform(-0.4, 0.4, (40, 3))
     limits = (1.0, 2.0) if planner == "trapezoidal" else (1.0, 2.0, 10.0)
-    plans = getattr(tk.batch, planner)(q0, qf, *limits, v0=v0, dt=0.01, grid="duration")
+    plans = getattr(tk.batch, planner)(q0, qf, *limits, v0=v0, period=0.01, grid="duration")
     for i in (0, 17, 39):
-        alone = getattr(tk, planner)(q0[i], qf[i], *limits, v0=v0[i], dt=0.01, grid="duration")
+        alone = getattr(tk, planner)(q0[i], qf[i], *limits, v0=v0[i], period=0.01, grid="duration")
         assert plans.durations[i] == pytest.approx(alone.duration, rel=CLOSED_FORM)
     steps = plans.durations / 0.01
     np.testing.assert_allclose(steps, np.round(steps), rtol=0, atol=1e-9 * steps.max())
     with pytest.raises(tk.InvalidInputError, match=r"^grid must be 'switches' or 'duration'"):
-        getattr(tk.batch, planner)(q0, qf, *limits, dt=0.01, grid="phases")
+        getattr(tk.batch, planner)(q0, qf, *limits, period=0.01, grid="phases")
 
 
 def test_a_batch_of_one_problem_runs_the_kernel_already_compiled() -> None:

@@ -100,12 +100,12 @@ def test_a_target_velocity_beyond_the_limit_is_infeasible():
 
 @pytest.mark.parametrize(
     ("kwargs", "message"),
-    [({"ndof": 0}, "ndof must be a positive integer"), ({"dt": 0.0}, "dt must be > 0")],
+    [({"ndof": 0}, "ndof must be a positive integer"), ({"period": 0.0}, "period must be > 0")],
 )
 def test_bad_construction(kwargs, message):
-    args = {"ndof": 2, "dt": 0.01} | kwargs
+    args = {"ndof": 2, "period": 0.01} | kwargs
     with pytest.raises(tk.InvalidInputError, match=message):
-        tk.online.Generator(args["ndof"], args["dt"], V, A, J)
+        tk.online.Generator(args["ndof"], args["period"], V, A, J)
 
 
 def test_random_moves_replanned_every_cycle_reach_their_targets():

@@ -388,9 +388,9 @@ def test_npz_with_scalar_names_is_refused_or_read(tmp_path: Path) -> None:
 
 
 def test_json_and_npz_keep_the_plans_metadata(tmp_path):
-    plan = tk.trapezoidal(np.zeros(2), [1.0, 0.5], 1.0, 2.0, sync="phase", dt=0.002)
+    plan = tk.trapezoidal(np.zeros(2), [1.0, 0.5], 1.0, 2.0, sync="phase", period=0.002)
     samples = plan.sample(0.01)
-    assert samples.metadata["sync"] == "phase" and samples.metadata["dt"] == 0.002
+    assert samples.metadata["sync"] == "phase" and samples.metadata["period"] == 0.002
     for write, read, name in ((samples.to_json, tk.Samples.from_json, "s.json"),
                               (samples.to_npz, tk.Samples.from_npz, "s.npz")):  # fmt: skip
         back = read(write(tmp_path / name))

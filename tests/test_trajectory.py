@@ -560,7 +560,7 @@ def test_sample_properties(tr: Trajectory, dt: float, unit: str) -> None:
 @pytest.mark.parametrize("dt", [0.0, -0.1, np.nan, np.inf, [0.1, 0.2], "x"])
 def test_sample_refuses_a_bad_dt(dt: object) -> None:
     tr = cubic_rest_to_rest([0.0], [1.0], 1.0)
-    with _raises_invalid(r"^dt must"):
+    with _raises_invalid(r"^sample_step must"):
         tr.sample(dt)  # type: ignore[arg-type]
 
 
@@ -1272,7 +1272,7 @@ def _taskspace_plan() -> Trajectory:
 
     arm = Planar2R(1.0, 0.8)
     motion = timed(Ellipse([0.0, 1.2, 0.0], 0.4, 0.0), "linear", duration=2.0)
-    return to_joint_space(arm, motion, dt=0.05).trajectory
+    return to_joint_space(arm, motion, ik_step=0.05).trajectory
 
 
 _VIA = ([0.0, 1.0, 2.5, 4.0], [[0.0, 0.0], [1.0, 0.5], [0.3, 1.2], [1.0, 1.0]])

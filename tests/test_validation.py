@@ -323,7 +323,7 @@ def test_animate_arm_draws_a_joint_space_plan(tmp_path: Any) -> None:
 
     robot = Spatial3R()
     motion = taskspace.timed(taskspace.Line([0, -12, 20], [10, 12, 20]), "cubic", duration=0.4)
-    plan = taskspace.to_joint_space(robot, motion, dt=0.01)
+    plan = taskspace.to_joint_space(robot, motion, ik_step=0.01)
     written = animate.arm(robot, plan, tmp_path / "plan.gif", fps=5, progress=False)
     assert written == tmp_path / "plan.gif"
     assert written.read_bytes()[:6] == b"GIF89a"

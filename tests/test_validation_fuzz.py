@@ -209,7 +209,7 @@ def _sample(**kwargs: Any) -> Any:
     say nothing about input handling, so such periods are left out, not called.
     """
     try:
-        dt = np.asarray(kwargs.get("dt"))
+        dt = np.asarray(kwargs.get("sample_step"))
         period = float(dt) if dt.dtype.kind in "fiu" and dt.size == 1 else math.nan
     except (TypeError, ValueError, OverflowError):
         period = math.nan
@@ -249,20 +249,20 @@ CASES: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
                                        "v0": 0.0, "vf": 0.0, "bc": "clamped"}),
     "trapezoidal": (tk.trapezoidal, {"q0": [0.0, 1.0], "qf": [1.0, 0.0], "vmax": 1.0,
                                      "amax": 2.0, "v0": 0.0, "vf": 0.0, "sync": "time",
-                                     "duration": None, "dt": None}),
+                                     "duration": None, "period": None}),
     "trapezoidal_blend": (tk.trapezoidal, {"q0": 0.0, "qf": 1.0, "duration": 2.0, "vmax": 2.0,
                                            "blend_ratio": 0.25, "blend_time": None}),
     "scurve": (tk.scurve, {"q0": [0.0, 1.0], "qf": [1.0, 0.0], "vmax": 1.0, "amax": 2.0,
                            "jmax": 5.0, "v0": 0.0, "vf": 0.0, "sync": "time",
-                           "duration": None, "dt": None}),
+                           "duration": None, "period": None}),
     "blended": (tk.blended, {"waypoints": [[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]], "vmax": 1.0,
                              "amax": 2.0, "jmax": None, "durations": None, "through": False}),
     "batch_trapezoidal": (trajkit.batch.trapezoidal, {
         "q0": [[0.0, 0.0], [1.0, 1.0]], "qf": [[1.0, 1.0], [0.0, 2.0]], "vmax": 1.0,
-        "amax": 2.0, "v0": 0.0, "vf": 0.0, "sync": "time", "dt": None}),
+        "amax": 2.0, "v0": 0.0, "vf": 0.0, "sync": "time", "period": None}),
     "batch_scurve": (trajkit.batch.scurve, {
         "q0": [[0.0, 0.0], [1.0, 1.0]], "qf": [[1.0, 1.0], [0.0, 2.0]], "vmax": 1.0,
-        "amax": 2.0, "jmax": 5.0, "v0": 0.0, "vf": 0.0, "sync": "time", "dt": None}),
+        "amax": 2.0, "jmax": 5.0, "v0": 0.0, "vf": 0.0, "sync": "time", "period": None}),
     "topp": (lambda **kw: tk.topp(_path(), **kw), {
         "limits": tk.Limits(velocity=1.0, acceleration=2.0), "grid": 20, "start_speed": 0.0,
         "end_speed": 0.0}),
@@ -270,7 +270,7 @@ CASES: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
                            "jerk": None}),
     "Trajectory": (tk.Trajectory, {"breakpoints": [0.0, 1.0], "coefficients": [[1.0], [0.0]]}),
     "evaluate": (lambda **kw: _trajectory().evaluate(**kw), {"t": [0.0, 1.0], "order": 1}),
-    "sample": (lambda **kw: _sample(**kw), {"dt": 0.1, "unit": "rad"}),
+    "sample": (lambda **kw: _sample(**kw), {"sample_step": 0.1, "unit": "rad"}),
     "check": (lambda **kw: tk.check(_trajectory(), **kw), {
         "limits": tk.Limits(velocity=1.0), "rtol": 1e-9}),
     "time_scaled": (lambda **kw: _trajectory().time_scaled(**kw), {"factor": 2.0}),
@@ -293,7 +293,9 @@ CASES: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
                                              "times": None}),
     "arc_pose": (mobile.arc_pose, {"pose": (0.0, 0.0, 0.0), "v": 1.0, "omega": 0.5,
                                    "duration": 1.0}),
-    "mobile_evaluate": (lambda **kw: _mobile_plan().evaluate(**kw), {"t": [0.0, 1.0]}),
+    "mobile_evaluate": (lambda **kw: _mobile_plan().evaluate(**kw), {"t": [0.0, 1.0],
+                                                                     "order": 1}),
+    "mobile_state": (lambda **kw: _mobile_plan().state(**kw), {"t": [0.0, 1.0]}),
     "mobile_check": (lambda **kw: _mobile_plan().check(**kw), {
         "limits": mobile.MobileLimits(velocity=1.0), "rtol": 1e-9}),
     "mobile_commands": (lambda **kw: _mobile_plan().commands(**kw), {"rate_hz": 10.0}),

@@ -117,7 +117,7 @@ def discretization_error(
         Controller period ``Ts`` (s).
     quantized : Trajectory, optional
         The trajectory as the controller runs it, e.g. the same planner called
-        with ``dt=period``. Default: ``trajectory`` slowed uniformly so that
+        with ``period=period``. Default: ``trajectory`` slowed uniformly so that
         its duration is a whole number of periods.
     hold : {"zero", "linear"}
         Between samples the controller holds the last command, or interpolates

@@ -30,12 +30,13 @@ from trajkit._validation import (
     finite_array,
     positive_scalar,
 )
-from trajkit.curve import Curve
+from trajkit.curve import Curve, check_order
 from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import engine, limited
 from trajkit.profiles._phases import PhasePlan
 from trajkit.profiles.velocity import velocity_room
+from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import Trajectory
 
 __all__ = ["BatchTrajectory", "scurve", "trapezoidal", "velocity_change"]
@@ -107,8 +108,7 @@ class BatchTrajectory(Curve):
         """
         from trajkit.profiles._kernels.tables import evaluate_batch
 
-        if isinstance(order, bool) or order not in (0, 1, 2, 3):
-            raise InvalidInputError(f"order must be 0, 1, 2 or 3, got {order!r}")
+        order = check_order(order, 3)
         times = finite_array("t", t, unit="s")
         if times.ndim > 1:
             raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
@@ -320,7 +320,7 @@ def _plan(
     m: FloatArray,
     sync: object,
     min_duration: ArrayLike | None,
-    dt: float | None,
+    period: float | None,
     grid: str,
     velocity_only: bool = False,
 ) -> tuple[engine.EngineResult, tuple, float | None]:
@@ -338,11 +338,11 @@ def _plan(
             raise InvalidInputError(f"min_duration must be a number or one per problem ({count})")
         if np.any(floor <= 0):
             raise InvalidInputError("min_duration must be > 0 s")
-    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    step = None if period is None else positive_scalar("period", period, unit="s")
     grid = choice("grid", grid, limited.GRIDS)
     control = np.full((count, ndof), int(velocity_only), np.int64)  # 0 position, 1 velocity
     result = engine.solve(
-        planner, m, control=control, sync=codes, min_duration=floor, dt=step, grid=grid
+        planner, m, control=control, sync=codes, min_duration=floor, period=step, grid=grid
     )
     return result, names, step
 
@@ -352,13 +352,14 @@ def _common_info(planner: str, result: engine.EngineResult, names: tuple, step: 
         "planner": planner,
         "continuity": 1 if result.second_order.any() else 2,
         "sync": names[0] if len(set(names)) == 1 else names,
-        "dt": step,
+        "period": step,
         "minimum_durations": result.own,
         "limiting_joint": result.limiting,
         "brake_times": result.t[..., :2],
     }
 
 
+@renamed_keywords(dt="period")
 def trapezoidal(
     q0: ArrayLike,
     qf: ArrayLike,
@@ -369,7 +370,7 @@ def trapezoidal(
     vf: ArrayLike = 0.0,
     sync: object = "time",
     min_duration: ArrayLike | None = None,
-    dt: float | None = None,
+    period: float | None = None,
     grid: str = "switches",
 ) -> BatchTrajectory:
     """Time-optimal trapezoid profiles for ``B`` problems at once.
@@ -377,7 +378,7 @@ def trapezoidal(
     Same meaning as :func:`trajkit.trapezoidal` (limit mode), with every argument
     of shape ``(B, ndof)`` or broadcastable to it (limits may be per joint
     ``(ndof,)``, per problem, or a ``(lower, upper)`` tuple of such arrays);
-    ``min_duration`` one number or one per problem; with ``dt``, ``grid`` puts
+    ``min_duration`` one number or one per problem; with ``period``, ``grid`` puts
     every switching time (``"switches"``) or only the duration (``"duration"``)
     on the period grid.
 
@@ -390,7 +391,7 @@ def trapezoidal(
     """
     values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": 0.0, "af": 0.0}
     m = _matrix("trapezoidal", values, vmax, amax, np.inf)
-    result, names, step = _plan("trapezoidal", m, sync, min_duration, dt, grid)
+    result, names, step = _plan("trapezoidal", m, sync, min_duration, period, grid)
 
     def info() -> dict[str, Any]:
         from trajkit.profiles._kernels.tables import stretches_batch
@@ -411,6 +412,7 @@ def trapezoidal(
     return BatchTrajectory("trapezoidal", m, result, info)
 
 
+@renamed_keywords(dt="period")
 def scurve(
     q0: ArrayLike,
     qf: ArrayLike,
@@ -424,7 +426,7 @@ def scurve(
     af: ArrayLike = 0.0,
     sync: object = "time",
     min_duration: ArrayLike | None = None,
-    dt: float | None = None,
+    period: float | None = None,
     grid: str = "switches",
 ) -> BatchTrajectory:
     """Time-optimal jerk-limited profiles for ``B`` problems at once, state to state.
@@ -443,10 +445,11 @@ def scurve(
     """
     values = {"q0": q0, "qf": qf, "v0": v0, "vf": vf, "a0": a0, "af": af}
     m = _matrix("scurve", values, vmax, amax, jmax)
-    result, names, step = _plan("scurve", m, sync, min_duration, dt, grid)
+    result, names, step = _plan("scurve", m, sync, min_duration, period, grid)
     return BatchTrajectory("scurve", m, result, _jerk_info("scurve", m, result, names, step))
 
 
+@renamed_keywords(dt="period")
 def velocity_change(
     v0: ArrayLike,
     vf: ArrayLike,
@@ -458,7 +461,7 @@ def velocity_change(
     af: ArrayLike = 0.0,
     sync: object = "time",
     min_duration: ArrayLike | None = None,
-    dt: float | None = None,
+    period: float | None = None,
     grid: str = "switches",
 ) -> BatchTrajectory:
     """Time-optimal changes of velocity for ``B`` problems at once, no position target.
@@ -467,7 +470,7 @@ def velocity_change(
     ``(B, ndof)`` or broadcastable to it (limits per joint, per problem, or
     ``(lower, upper)`` tuples of such arrays); ``min_duration`` one number or one
     per problem. The velocity law puts only the duration on a period grid: with
-    ``dt``, pass ``grid="duration"``.
+    ``period``, pass ``grid="duration"``.
 
     Returns
     -------
@@ -491,7 +494,7 @@ def velocity_change(
     values = {"q0": q0, "qf": q0, "v0": v0, "vf": vf, "a0": a0, "af": af}
     m = _matrix("velocity_change", values, (-wide, wide), amax, jmax)
     result, names, step = _plan(
-        "velocity_change", m, sync, min_duration, dt, grid, velocity_only=True
+        "velocity_change", m, sync, min_duration, period, grid, velocity_only=True
     )
     jerk_info = _jerk_info("velocity_change", m, result, names, step)
     return BatchTrajectory(

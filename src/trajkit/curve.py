@@ -17,8 +17,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray
+from trajkit.errors import InvalidInputError
 
-__all__ = ["Curve"]
+__all__ = ["Curve", "check_order"]
 
 
 class Curve(ABC):
@@ -65,3 +66,21 @@ class Curve(ABC):
     def jerk(self, t: ArrayLike) -> FloatArray:
         """The third derivative at ``t``."""
         return self.evaluate(t, 3)
+
+
+def check_order(order: object, highest: int | None = None, where: str = "") -> int:
+    """``order`` as an int if it is a derivative order a curve has (0 to ``highest``).
+
+    Raises
+    ------
+    InvalidInputError
+        Naming the orders allowed (and ``where``, e.g. " for a task trajectory").
+    """
+    whole = not isinstance(order, bool) and isinstance(order, int | np.integer) and order >= 0
+    if highest is None:
+        if not whole:
+            raise InvalidInputError(f"order must be a whole number >= 0{where}, got {order!r}")
+    elif not whole or order > highest:
+        allowed = ", ".join(str(k) for k in range(highest)) + f" or {highest}"
+        raise InvalidInputError(f"order must be {allowed}{where}, got {order!r}")
+    return int(order)  # type: ignore[arg-type]

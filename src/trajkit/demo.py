@@ -67,7 +67,10 @@ def sync_modes(scenario: Scenario, outcome: Outcome, out: Path, stage: StagedFil
     jmax = 4.0 * amax  # the coursework gives no jerk limit: a quarter second to full acceleration
     names = [f"joint {j + 1}" for j in range(q0.size)]
     period = scenario.period
-    for label, kwargs in (("continuous", {}), (f"on {period * 1e3:g} ms ticks", {"dt": period})):
+    for label, kwargs in (
+        ("continuous", {}),
+        (f"on {period * 1e3:g} ms ticks", {"period": period}),
+    ):
         for sync in ("phase", "time"):
             for profile in ("trapezoid", "scurve"):
                 if profile == "trapezoid":
@@ -104,7 +107,7 @@ def line_deviation(scenario: Scenario, outcome: Outcome, out: Path, stage: Stage
     times = np.linspace(0.0, plan.duration, 10001)
     tool = robot.fk(plan.position(times))[:, :3, 3]
     motion = timed(line, task["law"], duration=task["duration"])
-    deviation = float(np.abs(tool - motion.evaluate(times).position).max())
+    deviation = float(np.abs(tool - motion.state(times).position).max())
     peak = np.degrees(plan.extrema(1).peak)
     log(
         f"seed 003 {robot.name}, {task['law']} line in {task['duration']:g} s: FK of the "
@@ -183,7 +186,7 @@ def goto_phases(scenario: Scenario, outcome: Outcome, out: Path, stage: StagedFi
             f"seed 000 Jackal, {name}: minimum duration {duration:.9g} s; the hand value "
             f"{hand:g} s {verdict} the limit"
         )
-    run = mobile.simulate(plan, dt=0.01, command_rate_hz=10.0)
+    run = mobile.simulate(plan, sample_step=0.01, command_rate_hz=10.0)
     log(f"  the plan's twists sent at 10 Hz and held (zero-order hold): {run.summary()}")
     _mobile_outputs(out, stage, "seed000_jackal_goto_10hz", run, "Seed 000: held at 10 Hz")
 
@@ -199,14 +202,14 @@ def figure_eight_controllers(scenario: Scenario, outcome: Outcome, out: Path,
         mobile.PurePursuit(),
     )  # fmt: skip
     for controller in controllers:
-        run = mobile.simulate(plan, controller, dt=0.005, initial_pose=start)
+        run = mobile.simulate(plan, controller, sample_step=0.005, initial_pose=start)
         log(
             f"    {run.summary()}; after 10 s at most {run.error_after(10.0):.3g} m "
             f"({run.error_after(10.0, along_path=True):.3g} m from the path)"
         )
         stem = "seed002_figure8_" + controller.name.replace(" ", "_")
         _mobile_outputs(out, stage, stem, run, f"Seed 002: figure eight, {controller.name}")
-    exact = mobile.simulate(plan, dt=0.001)
+    exact = mobile.simulate(plan, sample_step=0.001)
     log(f"  feedforward from the right pose, RK4 at 1 kHz: max error {exact.max_error:.2g} m")
 
 

@@ -14,7 +14,7 @@ Examples
 A jog whose target moves for a while, then holds:
 
 >>> import trajkit as tk
->>> gen = tk.online.Generator(2, dt=0.01, vmax=1.0, amax=2.0, jmax=10.0)
+>>> gen = tk.online.Generator(2, period=0.01, vmax=1.0, amax=2.0, jmax=10.0)
 >>> state = gen.state  # at rest at 0
 >>> for k in range(400):
 ...     target = [min(0.005 * k, 1.0), -0.5]
@@ -25,6 +25,7 @@ A jog whose target moves for a while, then holds:
 
 from __future__ import annotations
 
+import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -34,6 +35,7 @@ from trajkit._validation import FloatArray, joint_vector, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import engine, limited
+from trajkit.renamed import renamed_keywords
 
 __all__ = ["Generator", "OnlineState"]
 
@@ -53,7 +55,7 @@ class Generator:
     ----------
     ndof : int
         Number of joints.
-    dt : float
+    period : float
         Control period (s).
     vmax, amax : float, sequence or tuple
         Velocity (rad/s) and acceleration (rad/s^2) limits, symmetric or
@@ -74,10 +76,11 @@ class Generator:
     needed when the last cycle began (s).
     """
 
+    @renamed_keywords(dt="period")
     def __init__(
         self,
         ndof: int,
-        dt: float,
+        period: float,
         vmax: LimitSpec,
         amax: LimitSpec,
         jmax: ArrayLike,
@@ -90,7 +93,7 @@ class Generator:
         if isinstance(ndof, bool) or not isinstance(ndof, int | np.integer) or ndof < 1:
             raise InvalidInputError(f"ndof must be a positive integer, got {ndof!r}")
         self.ndof = int(ndof)
-        self.dt = positive_scalar("dt", dt, unit="s")
+        self.period = positive_scalar("period", period, unit="s")
         # Validate once with a target at the start: limits, sync and the start state.
         start = joint_vector("position", position, self.ndof, unit="rad")
         problem = limited.read_problem(
@@ -120,6 +123,16 @@ class Generator:
         self._remaining = solve.MEMO_REMAINING
         self._memo = np.zeros(solve.memo_size(self.ndof))  # the plan held between cycles
         self._cycle = solve.online_cycle
+
+    @property
+    def dt(self) -> float:
+        """The old name of :attr:`period` (s); reading it warns."""
+        warnings.warn(
+            "Generator.dt is renamed Generator.period; the old name will be removed",
+            FutureWarning,
+            stacklevel=2,
+        )
+        return self.period
 
     @property
     def state(self) -> OnlineState:
@@ -181,7 +194,7 @@ class Generator:
     def _step(self, control: np.ndarray) -> tuple[OnlineState, bool]:
         code = engine.run(
             "online_cycle", self._cycle, self._m, control, self._sync, self._enabled,
-            self.dt, self._records, self._own, self._out, self._next, self._acceleration,
+            self.period, self._records, self._own, self._out, self._next, self._acceleration,
             self._memo,
         )  # fmt: skip
         if code != engine.STATUS_OK:
@@ -189,7 +202,7 @@ class Generator:
                 self._explain()
             raise engine._failure("online", code, self._out, self._m, "")
         self.duration = float(self._memo[self._remaining])
-        return self._state, self.duration <= self.dt
+        return self._state, self.duration <= self.period
 
     def _explain(self) -> None:
         m = self._m

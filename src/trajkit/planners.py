@@ -176,7 +176,7 @@ class Planner:
         if period is not None:
             if not self.period:
                 raise InvalidInputError(f"a controller period {self.refusal('period')}")
-            kwargs["dt"] = period
+            kwargs["period"] = period
         elif "grid" in kwargs:
             raise InvalidInputError("grid needs a controller period (the grid is its ticks)")
         return self.law(**kwargs)

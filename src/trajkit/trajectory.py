@@ -23,8 +23,9 @@ from trajkit._validation import (
     joint_vector,
     positive_scalar,
 )
-from trajkit.curve import Curve
+from trajkit.curve import Curve, check_order
 from trajkit.errors import ContinuityWarning, InvalidInputError
+from trajkit.renamed import renamed_keywords
 from trajkit.tolerances import BOUNDARY_ATOL, BOUNDARY_RTOL, JUMP_RTOL
 
 if TYPE_CHECKING:
@@ -370,7 +371,7 @@ class Trajectory(Curve):
         ndarray
             Shape ``(ndof,)`` for a scalar ``t``, ``(n, ndof)`` for a 1-D ``t``.
         """
-        _check_order(order)
+        check_order(order)
         times = finite_array("t", t, unit="s")
         if times.ndim > 1:
             raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
@@ -407,25 +408,28 @@ class Trajectory(Curve):
         """Position at ``t``; the same as :meth:`position`."""
         return self.evaluate(t, 0)
 
-    def sample(self, dt: float, *, unit: str = "rad") -> Samples:
-        """Sample position to jerk every ``dt`` seconds from start to end.
+    @renamed_keywords(dt="sample_step")
+    def sample(self, sample_step: float, *, unit: str = "rad") -> Samples:
+        """Sample position to jerk every ``sample_step`` seconds from start to end.
 
-        The times are ``start_time + i * dt`` (no accumulated rounding) and the end
+        The times are ``start_time + i * sample_step`` (no accumulated rounding) and the end
         time is always the last sample, exactly; when the duration is not a whole
-        multiple of ``dt`` the last interval is shorter (a grid point within
-        ``1e-9 dt`` of the end is moved onto it, so that interval may be longer by
+        multiple of ``sample_step`` the last interval is shorter (a grid point within
+        ``1e-9 sample_step`` of the end is moved onto it, so that interval may be longer by
         that much).
 
         Parameters
         ----------
-        dt : float
+        sample_step : float
             Sampling period (s), > 0.
         unit : str
             Position unit written into file headers ("rad", "m", ...).
         """
         from trajkit.samples import Samples
 
-        times = sample_times(self.start_time, self.end_time, positive_scalar("dt", dt, unit="s"))
+        times = sample_times(
+            self.start_time, self.end_time, positive_scalar("sample_step", sample_step, unit="s")
+        )
         return Samples(
             t=times,
             q=self.evaluate(times, 0),
@@ -439,7 +443,7 @@ class Trajectory(Curve):
     # ---------------------------------------------------------------- algebra
     def derivative(self, order: int = 1) -> Trajectory:
         """The ``order``-th time derivative as a new Trajectory on the same breakpoints."""
-        _check_order(order)
+        check_order(order)
         order = int(order)
         return Trajectory(
             self._breakpoints,
@@ -551,7 +555,7 @@ class Trajectory(Curve):
         together with the piece ends. Each piece counts on its closed interval, so at
         a jump the values approached from both sides are considered.
         """
-        _check_order(order)
+        check_order(order)
         c = self._coefficients_of(int(order))
         k1, m, ndof = c.shape
         lengths = np.repeat(np.diff(self._breakpoints), ndof)
@@ -597,7 +601,7 @@ class Trajectory(Curve):
         """
         from scipy.optimize import brentq
 
-        _check_order(order)
+        check_order(order)
         target = joint_vector("value", value, self.ndof)
         c = self._coefficients_of(int(order))
         k1, m, ndof = c.shape
@@ -653,7 +657,7 @@ class Trajectory(Curve):
             Row ``i`` is the jump at ``breakpoints[i + 1]`` (units of the trajectory
             per second**order); empty for a single piece.
         """
-        _check_order(order)
+        check_order(order)
         tolerance = positive_scalar("rtol", rtol)
         c = self._coefficients_of(int(order))
         if c.shape[1] < 2:
@@ -693,7 +697,7 @@ class Trajectory(Curve):
 MAX_SAMPLES = 100_000_000  # more would not fit in memory several times over: refused
 
 
-def sample_count(span: float, step: float, name: str = "dt") -> int:
+def sample_count(span: float, step: float, name: str = "sample_step") -> int:
     """``floor(span / step)`` (up to rounding), refusing grids beyond :data:`MAX_SAMPLES`."""
     ratio = span / step
     if not ratio <= MAX_SAMPLES:
@@ -773,11 +777,6 @@ def _first_root(c: FloatArray, length: float, brentq: Any) -> float:
             return b * length
     values = [abs(f(u)) for u in edges]
     return edges[int(np.argmin(values))] * length
-
-
-def _check_order(order: object) -> None:
-    if isinstance(order, bool) or not isinstance(order, int | np.integer) or order < 0:
-        raise InvalidInputError(f"order must be a whole number >= 0, got {order!r}")
 
 
 def _pad(c: FloatArray, degree: int) -> FloatArray:

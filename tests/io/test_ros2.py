@@ -217,7 +217,7 @@ def test_an_arm_plan_is_one_joint_trajectory_read_back_by_both_readers(
     plan = make()
     times = _arm_times(plan, dt)
     names = [f"joint{j + 1}" for j in range(plan.ndof)]
-    bag = write_bag(tmp_path / "arm", plan, dt=dt)
+    bag = write_bag(tmp_path / "arm", plan, sample_step=dt)
     assert bag == tmp_path / "arm"
     assert _names(bag) == ["arm.mcap", "metadata.yaml"]
 
@@ -246,7 +246,7 @@ def test_the_sampling_rule_by_degree() -> None:
 def test_the_last_point_is_the_end_of_the_plan_to_the_nanosecond(tmp_path: Path) -> None:
     for make, dt in [(_trapezoid, None), (_septic, None), (_septic, 0.3), (_cubic, 0.25)]:
         plan = make()
-        bag = write_bag(tmp_path / "bag", plan, dt=dt)
+        bag = write_bag(tmp_path / "bag", plan, sample_step=dt)
         ((_, message),) = _read(bag)["/joint_trajectory"]
         assert _ns(message.points[0].time_from_start) == 0
         assert _ns(message.points[-1].time_from_start) == round(plan.duration * 1e9)
@@ -455,7 +455,7 @@ def test_a_constant_twist_plan(tmp_path: Path) -> None:
 
 def test_the_command_rate_and_path_spacing_can_be_chosen(tmp_path: Path) -> None:
     plan = _constant_twist()
-    bag = write_bag(tmp_path / "base", plan, rate_hz=25.0, dt=0.7, frame_id="map")
+    bag = write_bag(tmp_path / "base", plan, rate_hz=25.0, sample_step=0.7, frame_id="map")
     for topics in (_read(bag), _strip(_read_mcap(bag))):
         assert len(topics["/cmd_vel"]) == 375
         _assert_twists(topics["/cmd_vel"], plan, 25.0, 0)
@@ -466,7 +466,7 @@ def test_a_rotate_translate_rotate_plan_in_sqlite3(tmp_path: Path) -> None:
     plan = _rtr()
     assert plan.info.get("rate_hz") is None  # so commands go at 10 Hz
     start_ns = 3 * BILLION + 500
-    bag = write_bag(tmp_path / "rtr", plan, storage="sqlite3", dt=0.05, start_ns=start_ns)
+    bag = write_bag(tmp_path / "rtr", plan, storage="sqlite3", sample_step=0.05, start_ns=start_ns)
     assert _names(bag) == ["metadata.yaml", "rtr.db3"]
     topics = _read(bag)
     assert sorted(topics) == ["/cmd_vel", "/plan"]
@@ -723,9 +723,9 @@ ARM_ERRORS = [
     ({"topic_prefix": "robot"}, "topic_prefix must be a ROS name"),
     ({"topic_prefix": "/robot/"}, "topic_prefix must be a ROS name"),
     ({"topic_prefix": "/"}, "topic_prefix must be a ROS name"),
-    ({"dt": float("nan")}, "dt must be finite"),
-    ({"dt": -0.1}, "dt must be > 0"),
-    ({"dt": 0.0}, "dt must be > 0"),
+    ({"sample_step": float("nan")}, "sample_step must be finite"),
+    ({"sample_step": -0.1}, "sample_step must be > 0"),
+    ({"sample_step": 0.0}, "sample_step must be > 0"),
     ({"stream": "joint_state", "rate_hz": float("nan")}, "rate_hz must be finite"),
     ({"stream": "point", "rate_hz": -10.0}, "rate_hz must be > 0"),
     ({"stream": "point", "rate_hz": float("inf")}, "rate_hz must be finite"),
@@ -733,8 +733,8 @@ ARM_ERRORS = [
 MOBILE_ERRORS = [
     ({"joint_names": ["a"]}, "joint_names and stream are for arm plans (a Trajectory)"),
     ({"stream": "joint_state"}, "joint_names and stream are for arm plans"),
-    ({"dt": float("nan")}, "dt must be finite"),
-    ({"dt": -1.0}, "dt must be > 0"),
+    ({"sample_step": float("nan")}, "sample_step must be finite"),
+    ({"sample_step": -1.0}, "sample_step must be > 0"),
     ({"rate_hz": float("nan")}, "rate_hz must be finite"),
     ({"rate_hz": -5.0}, "rate_hz must be > 0"),
     ({"rate_hz": 0.0}, "rate_hz must be > 0"),
@@ -856,7 +856,7 @@ def test_time_from_start_strictly_increases(
 ) -> None:
     # joint_trajectory_controller rejects a trajectory whose points' times do not
     # strictly increase ("Time between points ... is not strictly increasing").
-    bag = write_bag(tmp_path / "bag", make(), dt=dt)
+    bag = write_bag(tmp_path / "bag", make(), sample_step=dt)
     ((_, message),) = _read(bag)["/joint_trajectory"]
     times = [_ns(point.time_from_start) for point in message.points]
     assert all(b > a for a, b in itertools.pairwise(times)), times[-3:]

@@ -259,7 +259,7 @@ def test_several_joints(sync):
 
 # ---------------------------------------------------------------------------- cases
 def test_a_tiny_move_under_a_long_common_duration_keeps_its_move():
-    # tk.scurve([0, 0], [2.4e-9, 5.0], 1.0, 1.0, 10.0, dt=0.002) ended at 0 (a bug).
+    # tk.scurve([0, 0], [2.4e-9, 5.0], 1.0, 1.0, 10.0, period=0.002) ended at 0 (a bug).
     m = symmetric([0.0, 0.0], [2.4e-9, 5.0], 1.0, 1.0, 10.0)
     for sync in (SYNC_TIME, SYNC_PHASE, SYNC_TIN, SYNC_NONE):
         status, profiles, out = run(m, sync)

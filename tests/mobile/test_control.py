@@ -304,7 +304,7 @@ OFFSETS = [pytest.param(+1.0, id="left-turned-left"), pytest.param(-1.0, id="rig
 def run_from_offset(controller, side: float):
     plan = figure_eight_plan()
     start = support.offset_pose(plan.start_pose, side * OFFSET, side * TURN)
-    log = simulate(plan, controller, dt=0.001, initial_pose=start)
+    log = simulate(plan, controller, sample_step=0.001, initial_pose=start)
     assert log.position_error[0] == pytest.approx(OFFSET, rel=CLOSED_FORM)
     assert abs(log.heading_error[0]) == pytest.approx(TURN, rel=CLOSED_FORM)
     return log
@@ -340,10 +340,12 @@ def test_pure_pursuit_gets_going_on_a_plan_from_rest_and_stops_at_its_end():
     limits = MobileLimits(velocity=0.5, angular_velocity=1.0, acceleration=1.0,
                           angular_acceleration=1.0)  # fmt: skip
     plan = rotate_translate_rotate((3.0, 0.0), limits=limits)
-    run = simulate(plan, PurePursuit(), dt=0.01, duration=plan.duration + 2.0)
+    run = simulate(plan, PurePursuit(), sample_step=0.01, duration=plan.duration + 2.0)
     assert run.final_position_error < 1e-3
     curve = flat_trajectory(spline_output([[0.0, 0.0], [1.0, 0.0], [2.0, 1.0]]))
-    run = simulate(curve, PurePursuit(lookahead=0.2), dt=0.01, duration=curve.duration + 5.0)
+    run = simulate(
+        curve, PurePursuit(lookahead=0.2), sample_step=0.01, duration=curve.duration + 5.0
+    )
     assert run.final_position_error < 1e-3 and run.max_path_distance < 0.01
 
 
@@ -353,7 +355,7 @@ def test_pure_pursuit_does_not_stall_on_a_final_turn_in_place():
     limits = MobileLimits(velocity=0.5, angular_velocity=1.0, acceleration=1.0,
                           angular_acceleration=1.0)  # fmt: skip
     plan = rotate_translate_rotate((5.0, 3.0, 1.5), limits=limits)
-    run = simulate(plan, PurePursuit(speed=0.2), dt=0.02, duration=60.0)
+    run = simulate(plan, PurePursuit(speed=0.2), sample_step=0.02, duration=60.0)
     # It stops at the goal instead of driving on past it (pure pursuit cannot turn in place).
     assert run.final_position_error < 0.01
     assert np.hypot(*(run.actual[:, :2] - [5.0, 3.0]).T).min() < 0.01
@@ -367,7 +369,7 @@ def test_trackers_converge_driving_backwards(controller):
                           angular_acceleration=1.0)  # fmt: skip
     plan = rotate_translate_rotate((-3.0, 0.0), limits=limits, reverse=True)
     assert plan.twist(3.0)[0] < 0.0
-    run = simulate(plan, controller, dt=0.01, initial_pose=(0.0, 0.1, 0.1))
+    run = simulate(plan, controller, sample_step=0.01, initial_pose=(0.0, 0.1, 0.1))
     assert run.final_position_error < 5e-3
     assert run.final_heading_error < np.radians(1.0)
 
@@ -378,6 +380,6 @@ def test_pure_pursuit_at_a_constant_speed_follows_a_reverse_plan_backwards():
     limits = MobileLimits(velocity=0.5, angular_velocity=1.0, acceleration=1.0,
                           angular_acceleration=1.0)  # fmt: skip
     plan = rotate_translate_rotate((-2.0, 0.5, 0.0), limits=limits, reverse=True)
-    run = simulate(plan, PurePursuit(speed=0.3), dt=0.01, duration=plan.duration + 5.0)
+    run = simulate(plan, PurePursuit(speed=0.3), sample_step=0.01, duration=plan.duration + 5.0)
     assert run.commands[len(run.t) // 2, 0] == pytest.approx(-0.3)
     assert run.max_path_distance < 0.05 and run.final_position_error < 0.01

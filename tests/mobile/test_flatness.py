@@ -111,7 +111,7 @@ def slow_state(output: FlatOutput, t: float, scale: float = 1.0, sign: float = 1
 
 
 def plan_state(plan, t: float) -> np.ndarray:
-    state = plan.evaluate(t)
+    state = plan.state(t)
     return np.array([state.theta[0], state.v[0], state.omega[0], state.acceleration[0],
                      state.angular_acceleration[0]])  # fmt: skip
 
@@ -269,7 +269,7 @@ def test_plans_drive_along_the_output(width, height, period, timing):
                            timing=timing)  # fmt: skip
     scale = plan.info["time_scale"]
     t = np.linspace(0.0, plan.duration, 301)
-    state = plan.evaluate(t)
+    state = plan.state(t)
     # Positions are the output's; (v cos θ, v sin θ) is its velocity on the slowed clock.
     support.assert_state(np.stack([state.x, state.y], 1), eight.evaluate(t / scale, 0),
                          rtol=ROUNDING)  # fmt: skip
@@ -299,7 +299,7 @@ def test_spline_ends_at_rest_have_finite_twist_and_the_direction_of_travel():
     output = spline_output(WAYPOINTS)
     plan = flat_trajectory(output)
     span = plan.duration
-    ends = plan.evaluate(np.array([0.0, span]))
+    ends = plan.state(np.array([0.0, span]))
     for column in (ends.theta, ends.omega, ends.acceleration, ends.angular_acceleration):
         assert np.all(np.isfinite(column))
     assert np.abs(ends.v).max() <= 1e-15
@@ -357,7 +357,7 @@ def peak_ratios(plan, limits: MobileLimits) -> dict[str, float]:
 def sampled_excess(plan, limits: MobileLimits, count: int = 20_001) -> float:
     """Largest sampled value / bound over a uniform grid, independent of check()."""
     t = np.linspace(0.0, plan.duration, count)
-    state = plan.evaluate(t)
+    state = plan.state(t)
     sampled = {"velocity": state.v, "angular_velocity": state.omega,
                "acceleration": state.acceleration,
                "angular_acceleration": state.angular_acceleration}  # fmt: skip
@@ -435,7 +435,7 @@ def test_reported_extrema_bound_a_dense_grid():
     limits = MobileLimits(1.0, 10.0, 10.0, 10.0, 100.0)
     report = plan.check(limits)
     t = np.linspace(0.0, plan.duration, CHECK_GRID)
-    state = plan.evaluate(t)
+    state = plan.state(t)
     wheels = plan.wheel_speeds(t)
     sampled = {
         "velocity": state.v[:, None], "angular velocity": state.omega[:, None],
@@ -487,7 +487,7 @@ def test_reversing_at_a_cusp_keeps_the_heading_and_limits_of_the_formulas():
     plan = flat_trajectory(cusp, stops="reverse")
     assert plan.info["stops"] == pytest.approx((2.0,), rel=1e-12)
     t = np.array([1.999, 2.0, 2.001])
-    state = plan.evaluate(t)
+    state = plan.state(t)
     assert state.v[0] > 0 > state.v[2] and abs(state.v[1]) <= 1e-15
     support.assert_heading(state.theta, math.atan2(2.0, 1.0), atol=1e-5)  # along (1, 2u)
     # At the stop: ω = 2 u' / (1 + 4u²) = 0 and dω/dt = 2 u'' / 5 = -2 (π/4)² / 5.
@@ -609,7 +609,7 @@ def test_heading_and_turn_rate_near_a_stop_match_the_exact_curve(px, py, k):
     # ẏ/ẋ = k t for both curves: θ = atan(k t), ω = k / (1 + k² t²), dω/dt = -2 k³ t / (...)².
     plan = flat_trajectory(_power_output(px, py))
     t = np.array([0.0, 1e-12, 1e-9, 1e-6, 1e-4, 1.7e-3, 5e-3, 2e-2, 0.5, 1.0])
-    state = plan.evaluate(t)
+    state = plan.state(t)
     np.testing.assert_allclose(state.theta, np.arctan(k * t), rtol=0, atol=1e-12)
     np.testing.assert_allclose(state.omega, k / (1 + (k * t) ** 2), rtol=1e-12)
     np.testing.assert_allclose(
@@ -663,7 +663,7 @@ def test_a_near_stop_after_a_real_stop_keeps_the_closed_forms():
     plan = flat_trajectory(_from_velocity(speed, poly.polymul(speed, [0.0, 1.5])))
     assert plan.info["stops"] == ()
     t = np.array([0.0, 1e-6, 0.3, 0.38, 0.4, 0.42, 0.6, 1.0])
-    state = plan.evaluate(t)
+    state = plan.state(t)
     np.testing.assert_allclose(state.theta, np.arctan(1.5 * t), rtol=0, atol=1e-9)
     np.testing.assert_allclose(state.omega, 1.5 / (1 + 2.25 * t**2), rtol=1e-6)
 
@@ -674,7 +674,7 @@ def test_high_order_stops_from_the_series(px):
     k = (px + 1) / px
     plan = flat_trajectory(_power_output(px, px + 1))
     t = np.array([0.0, 1e-9, 1e-4, 1e-2, 0.1, 0.2, 0.5])
-    state = plan.evaluate(t)
+    state = plan.state(t)
     np.testing.assert_allclose(state.theta, np.arctan(k * t), rtol=0, atol=1e-11)
     np.testing.assert_allclose(state.omega, k / (1 + (k * t) ** 2), rtol=1e-9)
 
@@ -686,7 +686,7 @@ def test_a_high_order_rest_at_the_end_is_not_an_inner_stop():
     c = np.concatenate([law.coefficients, 0.5 * law.coefficients], axis=2)
     plan = flat_trajectory(tk.Trajectory(law.breakpoints, c))
     assert plan.info["stops"] == ()
-    np.testing.assert_allclose(plan.evaluate([0.0, 1.0]).theta, np.arctan(0.5), atol=1e-9)
+    np.testing.assert_allclose(plan.state([0.0, 1.0]).theta, np.arctan(0.5), atol=1e-9)
 
 
 def test_a_curve_that_turns_as_it_stops_meets_the_inserted_turn_with_a_jump():

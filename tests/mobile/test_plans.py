@@ -209,7 +209,7 @@ def test_limits_default_to_the_models():
 
 def test_controller_period_rounds_phases_up():
     plan = rotate_translate_rotate((3.0, 1.0, 2.0), vmax=0.7, wmax=1.1, amax=0.9, alpha_max=1.3,
-                                   dt=0.01)  # fmt: skip
+                                   period=0.01)  # fmt: skip
     for duration in plan.info["phase_durations"]:
         periods = duration / 0.01
         assert periods == pytest.approx(round(periods), rel=CLOSED_FORM)
@@ -249,7 +249,7 @@ def test_scurve_phases_keep_their_jerk():
         ({"vmax": 1, "wmax": 1, "alpha_max": -2}, r"alpha_max must be > 0, got -2 rad/s\^2"),
         ({"vmax": 1, "wmax": 1, "jmax": 0}, r"jmax must be > 0, got 0 m/s\^3"),
         ({"vmax": 1, "wmax": 1, "angular_jmax": -1}, r"angular_jmax must be > 0, got -1 rad/s\^3"),
-        ({"vmax": 1, "wmax": 1, "dt": 0}, r"dt must be > 0, got 0 s"),
+        ({"vmax": 1, "wmax": 1, "period": 0}, r"period must be > 0, got 0 s"),
         ({"vmax": 1, "wmax": 1, "blend_ratio": 0.7}, r"blend_ratio must be in \(0, 0.5\]"),
         ({"vmax": 1, "wmax": 1, "blend_ratio": 0.1, "model": "jackal"},
          r"model must be a trajkit.mobile Unicycle or DiffDrive, got str"),
@@ -366,7 +366,7 @@ def test_scurve_reaches_the_goal_within_limits(poses, vmax, wmax, amax, alpha, j
     start, goal = poses
     plan = rotate_translate_rotate(goal, start, vmax=vmax, wmax=wmax, amax=amax, alpha_max=alpha,
                                    jmax=jmax, angular_jmax=wjmax, profile="scurve", reverse=reverse,
-                                   dt=dt)  # fmt: skip
+                                   period=dt)  # fmt: skip
     assert_reaches(plan, start, goal, reverse)
     assert plan.check(MobileLimits(vmax, wmax, amax, alpha)).ok
     for segment in plan.segments:

@@ -79,8 +79,8 @@ def held_commands(log: SimulationLog, rate_hz: float) -> np.ndarray:
 # The figure eight at 1 kHz ---------------------------------------------------------
 def test_figure_eight_feedforward_tracks_the_curve():
     plan = flat_trajectory(EIGHT)
-    default = simulate(plan, None, dt=0.001)
-    explicit = simulate(plan, Feedforward(), dt=0.001)
+    default = simulate(plan, None, sample_step=0.001)
+    explicit = simulate(plan, Feedforward(), sample_step=0.001)
     np.testing.assert_array_equal(default.actual, explicit.actual)
     assert default.controller == "feedforward"
     assert default.t.size == 20_001 and default.t[-1] == 20.0
@@ -99,7 +99,7 @@ def test_figure_eight_feedforward_tracks_the_curve():
 @given(support.poses(), st.floats(-2.0, 2.0), st.floats(-3.0, 3.0))
 def test_constant_twist_by_rk4_is_the_arc(start, v, omega):
     plan = constant_twist(v, omega, 2.0, start=start)
-    log = simulate(plan, dt=0.01)
+    log = simulate(plan, sample_step=0.01)
     scale = 1.0 + np.abs(start[:2]).max() + abs(v) * 2.0
     bound = support.rk4_constant_twist_bound(v, omega, 0.01, 2.0, scale)
     exact = arc_pose(start, v, omega, log.t)
@@ -115,7 +115,7 @@ def test_constant_twist_by_rk4_is_the_arc(start, v, omega):
 )
 def test_held_constant_commands_are_exact_arcs(start, v, omega, rate):
     plan = constant_twist(v, omega, 2.0, start=start, rate_hz=rate)
-    log = simulate(plan, dt=0.01, command_rate_hz=rate)
+    log = simulate(plan, sample_step=0.01, command_rate_hz=rate)
     exact = arc_pose(start, v, omega, log.t)
     scale = (1.0 + np.abs(start[:2]).max() + abs(v) * 2.0) * (1 + abs(start[2]) + abs(omega) * 2.0)
     assert np.abs(log.actual - exact).max() <= HELD_ARC * 10 * scale
@@ -124,7 +124,7 @@ def test_held_constant_commands_are_exact_arcs(start, v, omega, rate):
 
 def test_held_commands_between_command_times_follow_the_arc():
     plan = rotate_translate_rotate((2.0, 1.0, 0.0), vmax=0.5, wmax=1.0, amax=1.0, alpha_max=2.0)
-    log = simulate(plan, dt=0.01, command_rate_hz=4.0)
+    log = simulate(plan, sample_step=0.01, command_rate_hz=4.0)
     k = np.floor(log.t * 4.0 + 1e-9).astype(int)
     command_time = k / 4.0
     first = np.searchsorted(log.t, command_time - 1e-12)  # the log sample at each command time
@@ -139,7 +139,7 @@ def test_held_commands_respect_acceleration_and_wheel_limits():
     model = tight_diff_drive()
     plan = two_arcs(model)
     assert not plan.check().ok  # the step needs 12.5 rad/s on the right wheel
-    log = simulate(plan, dt=0.01, command_rate_hz=20.0)
+    log = simulate(plan, sample_step=0.01, command_rate_hz=20.0)
     assert_commands_within(log, model, model.limits)
     held = held_commands(log, 20.0)
     steps = np.abs(np.diff(held, axis=0)) * 20.0  # rate of change between commands
@@ -155,7 +155,7 @@ def test_held_commands_in_a_closed_loop_respect_every_limit():
                                   angular_acceleration=2.0, wheel_speed=7.0)  # fmt: skip
     plan = flat_trajectory(EIGHT, model=robot, limits=limits, timing="within_limits")
     start = support.offset_pose(plan.start_pose, 0.5, math.radians(30.0))
-    log = simulate(plan, Kanayama(kx=3, ky=30, ktheta=8), dt=0.01, initial_pose=start,
+    log = simulate(plan, Kanayama(kx=3, ky=30, ktheta=8), sample_step=0.01, initial_pose=start,
                    command_rate_hz=20.0, limits=limits)  # fmt: skip
     assert_commands_within(log, robot, limits)
     held = held_commands(log, 20.0)
@@ -168,7 +168,7 @@ def test_held_commands_in_a_closed_loop_respect_every_limit():
 def test_continuous_commands_are_saturated():
     model = tight_diff_drive()
     plan = two_arcs(model)
-    log = simulate(plan, dt=0.01)
+    log = simulate(plan, sample_step=0.01)
     assert_commands_within(log, model, model.limits)
     # After the step the command is the plan's, scaled to the wheel limit: (0.5, 3) * 0.44.
     factor = 5.5 / 12.5
@@ -180,7 +180,7 @@ def test_continuous_commands_are_saturated():
 
 def test_explicit_limits_replace_the_models():
     plan = constant_twist(1.0, 0.0, 1.0)
-    log = simulate(plan, dt=0.1, limits=MobileLimits(velocity=0.25))
+    log = simulate(plan, sample_step=0.1, limits=MobileLimits(velocity=0.25))
     np.testing.assert_array_equal(log.commands[:, 0], 0.25)
     support.assert_state(log.actual[-1], [0.25, 0.0, 0.0], rtol=ROUNDING)
 
@@ -188,31 +188,32 @@ def test_explicit_limits_replace_the_models():
 # Noise ----------------------------------------------------------------------------
 def test_noise_is_reproducible_with_a_seed():
     plan = flat_trajectory(EIGHT)
-    runs = [simulate(plan, Kanayama(), dt=0.01, duration=5.0, noise=(0.01, 0.02), seed=seed)
+    runs = [simulate(plan, Kanayama(), sample_step=0.01, duration=5.0,
+                     noise=(0.01, 0.02), seed=seed)
             for seed in (7, 7, 8)]  # fmt: skip
     np.testing.assert_array_equal(runs[0].actual, runs[1].actual)
     np.testing.assert_array_equal(runs[0].commands, runs[1].commands)
     assert np.abs(runs[0].actual - runs[2].actual).max() > 1e-4
-    quiet = simulate(plan, Kanayama(), dt=0.01, duration=5.0)
+    quiet = simulate(plan, Kanayama(), sample_step=0.01, duration=5.0)
     assert np.abs(runs[0].actual - quiet.actual).max() > 1e-4
-    silent = simulate(plan, Kanayama(), dt=0.01, duration=5.0, noise=(0.0, 0.0), seed=3)
+    silent = simulate(plan, Kanayama(), sample_step=0.01, duration=5.0, noise=(0.0, 0.0), seed=3)
     np.testing.assert_array_equal(silent.actual, quiet.actual)
 
 
 def test_held_noise_is_reproducible_too():
     plan = flat_trajectory(EIGHT)
-    a, b = (simulate(plan, Kanayama(), dt=0.01, duration=3.0, command_rate_hz=10.0,
+    a, b = (simulate(plan, Kanayama(), sample_step=0.01, duration=3.0, command_rate_hz=10.0,
                      noise=(0.02, 0.0), seed=1) for _ in range(2))  # fmt: skip
     np.testing.assert_array_equal(a.actual, b.actual)
-    c = simulate(plan, Kanayama(), dt=0.01, duration=3.0, command_rate_hz=10.0, noise=(0.02, 0.0),
-                 seed=2)  # fmt: skip
+    c = simulate(plan, Kanayama(), sample_step=0.01, duration=3.0, command_rate_hz=10.0,
+                 noise=(0.02, 0.0), seed=2)  # fmt: skip
     assert np.abs(a.actual - c.actual).max() > 1e-4
 
 
 # Duration, start and controllers ----------------------------------------------------
 def test_after_the_plan_the_desired_state_stands_still():
     plan = constant_twist(0.5, 0.5, 2.0)
-    log = simulate(plan, dt=0.1, duration=4.0)
+    log = simulate(plan, sample_step=0.1, duration=4.0)
     assert log.t[-1] == 4.0
     after = log.t > 2.0
     np.testing.assert_array_equal(log.desired[after], np.tile(plan.end_pose, (after.sum(), 1)))
@@ -226,7 +227,7 @@ def test_seed000_held_commands_stop_where_the_plan_ends():
     # on the arc's end after the plan's 150 commands, as a base controller would.
     w = math.radians(10.0)
     plan = constant_twist(0.1, w, 15.0, rate_hz=10.0, model=jackal())
-    log = simulate(plan, dt=0.01, duration=20.0, command_rate_hz=10.0)
+    log = simulate(plan, sample_step=0.01, duration=20.0, command_rate_hz=10.0)
     held = held_commands(log, 10.0)
     assert np.count_nonzero(np.any(held != 0.0, axis=1)) == 150 == plan.info["command_count"]
     after = log.t >= 15.0
@@ -239,7 +240,7 @@ def test_seed000_held_commands_stop_where_the_plan_ends():
 def test_a_step_in_the_twist_on_a_step_boundary_is_integrated_on_its_side():
     # ω jumps from 0 to 3 rad/s at t = 1 s, a step boundary: each RK4 step sees one arc.
     plan = two_arcs(Unicycle())
-    log = simulate(plan, dt=0.01)
+    log = simulate(plan, sample_step=0.01)
     exact = plan.pose(log.t)  # arcs are exact
     bound = support.rk4_constant_twist_bound(0.5, 3.0, 0.01, 2.0, 2.0)
     assert np.abs(log.actual[:, :2] - exact[:, :2]).max() <= bound
@@ -252,7 +253,7 @@ def test_a_plan_of_zero_length_needs_a_duration():
         InvalidInputError, match=r"the plan has no duration to simulate; pass duration="
     ):
         simulate(still)
-    log = simulate(still, Kanayama(), dt=0.5, duration=1.0, initial_pose=(1.0, 1.2, 0.0))
+    log = simulate(still, Kanayama(), sample_step=0.5, duration=1.0, initial_pose=(1.0, 1.2, 0.0))
     assert log.t.tolist() == [0.0, 0.5, 1.0]
 
 
@@ -278,7 +279,7 @@ def test_custom_controllers():
             return Law()
 
     creep = Creep()
-    log = simulate(constant_twist(1.0, 0.0, 1.0), creep, dt=0.25)
+    log = simulate(constant_twist(1.0, 0.0, 1.0), creep, sample_step=0.25)
     assert log.controller == "Creep"  # no name: the class name
     assert creep.advanced == 5  # once per logged step
     support.assert_state(log.actual[-1], [0.1, 0.0, 0.0], rtol=ROUNDING)
@@ -289,7 +290,7 @@ def test_custom_controllers():
 def log() -> SimulationLog:
     plan = rotate_translate_rotate((1.0, 1.0, 2.0), (0.0, 0.0, 3.0), vmax=0.5, wmax=1.0,
                                    amax=1.0, alpha_max=2.0, model=DiffDrive(0.1, 0.4))  # fmt: skip
-    return simulate(plan, Kanayama(), dt=0.05, initial_pose=(0.1, -0.1, -3.0))
+    return simulate(plan, Kanayama(), sample_step=0.05, initial_pose=(0.1, -0.1, -3.0))
 
 
 def test_log_shapes(log):
@@ -351,7 +352,7 @@ def test_log_to_csv_reads_back_exactly(log, tmp_path):
 
 
 def test_unicycle_log_to_csv_has_no_wheels(tmp_path):
-    log = simulate(constant_twist(0.2, 0.1, 1.0), dt=0.25)
+    log = simulate(constant_twist(0.2, 0.1, 1.0), sample_step=0.25)
     path = log.to_csv(tmp_path / "unicycle.csv")
     assert path.read_text().splitlines()[0] == HEADER
     table = np.loadtxt(path, delimiter=",", skiprows=1)
@@ -363,8 +364,8 @@ def test_unicycle_log_to_csv_has_no_wheels(tmp_path):
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"dt": 0.0}, r"dt must be > 0, got 0 s"),
-        ({"dt": np.nan}, r"dt must be finite"),
+        ({"sample_step": 0.0}, r"sample_step must be > 0, got 0 s"),
+        ({"sample_step": np.nan}, r"sample_step must be finite"),
         ({"duration": -1.0}, r"duration must be > 0, got -1 s"),
         ({"initial_pose": (0.0, 0.0, 0.0, 0.0)}, r"initial_pose must be a pose"),
         ({"initial_pose": (0.0, np.nan)}, r"initial_pose must be finite"),
@@ -387,7 +388,7 @@ def test_plan_must_be_a_mobile_trajectory():
     ):
         simulate(EIGHT)  # type: ignore[arg-type]
     assert isinstance(
-        simulate(constant_twist(0.1, 0.0, 0.5, model=Unicycle()), dt=0.5), SimulationLog
+        simulate(constant_twist(0.1, 0.0, 0.5, model=Unicycle()), sample_step=0.5), SimulationLog
     )
 
 
@@ -396,8 +397,8 @@ def test_a_unicycle_plan_driven_on_a_base_whose_wheels_saturate():
 
     plan = m.flat_trajectory(m.FigureEight(2.0, 1.0, 10.0))  # a bare unicycle: no limits
     base = m.DiffDrive(0.1, 0.4, wheel_speed_limit=5.0)
-    free = m.simulate(plan, m.Kanayama(), dt=0.01)
-    run = m.simulate(plan, m.Kanayama(), dt=0.01, model=base)
+    free = m.simulate(plan, m.Kanayama(), sample_step=0.01)
+    run = m.simulate(plan, m.Kanayama(), sample_step=0.01, model=base)
     assert free.wheel_speeds is None
     assert np.abs(run.wheel_speeds).max() <= 5.0 * (1 + 1e-12)
     # The plan needs up to 7.4 rad/s on these wheels: saturation makes the robot lag.
@@ -411,7 +412,7 @@ def test_error_after_against_the_clock_or_along_the_path():
     import trajkit.mobile as m
 
     plan = m.flat_trajectory(m.FigureEight(2.0, 1.0, 20.0))
-    run = m.simulate(plan, m.PurePursuit(), dt=0.02)
+    run = m.simulate(plan, m.PurePursuit(), sample_step=0.02)
     late = run.t >= 10.0
     assert run.error_after(10.0) == run.position_error[late].max()
     assert run.error_after(10.0, along_path=True) == run.path_distance[late].max()
@@ -423,7 +424,7 @@ def test_a_position_alone_starts_with_the_plans_heading():
     import trajkit.mobile as m
 
     plan = m.flat_trajectory(m.FigureEight(2.0, 1.0, 20.0))
-    run = m.simulate(plan, m.Kanayama(), dt=0.05, duration=1.0, initial_pose=(0.1, 0.0))
+    run = m.simulate(plan, m.Kanayama(), sample_step=0.05, duration=1.0, initial_pose=(0.1, 0.0))
     np.testing.assert_array_equal(run.actual[0], [0.1, 0.0, plan.start_pose[2]])
 
 
@@ -433,7 +434,7 @@ def test_simulation_defaults_to_the_plans_limits():
     slow = m.MobileLimits(velocity=0.3, angular_velocity=1.0)
     plan = m.flat_trajectory(m.FigureEight(2.0, 1.0, 20.0), model=m.jackal(), limits=slow,
                              timing="within_limits")  # fmt: skip
-    run = m.simulate(plan, m.Kanayama(), dt=0.02, initial_pose=(0.3, 0.3, 1.3))
+    run = m.simulate(plan, m.Kanayama(), sample_step=0.02, initial_pose=(0.3, 0.3, 1.3))
     assert np.abs(run.commands[:, 0]).max() <= 0.3 * (1 + 1e-12)  # not the Jackal's 2 m/s
 
 
@@ -442,6 +443,6 @@ def test_too_many_samples_are_refused():
 
     plan = m.constant_twist(0.1, 0.1, 20.0)
     with pytest.raises(InvalidInputError, match=r"gives 2e\+10 samples; at most 1e\+08"):
-        m.simulate(plan, dt=1e-9)
+        m.simulate(plan, sample_step=1e-9)
     with pytest.raises(InvalidInputError, match=r"commands; at most 1e\+08"):
         m.constant_twist(0.1, 0.1, 1e9, rate_hz=10.0).commands(10.0)

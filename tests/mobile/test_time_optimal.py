@@ -135,7 +135,7 @@ def test_at_rest_at_both_ends_and_never_backwards(name):
     plan = plan_for(name)
     np.testing.assert_allclose(plan.twist(np.array([0.0, plan.duration])), 0.0, atol=REST)
     t = np.linspace(0.0, plan.duration, DENSE_PLAN)
-    assert plan.evaluate(t).v.min() >= -1e-12
+    assert plan.state(t).v.min() >= -1e-12
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

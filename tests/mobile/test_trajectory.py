@@ -217,7 +217,7 @@ def test_constructor_refuses_bad_input(segments, model, match):
 def test_evaluate_is_each_segments_local_state():
     plan = reference()
     t = np.linspace(0.0, plan.duration, 301)
-    state = plan.evaluate(t)
+    state = plan.state(t)
     assert isinstance(state, MobileState)
     np.testing.assert_array_equal(state.t, t)
     bp = plan.breakpoints
@@ -248,7 +248,7 @@ def test_scalar_and_array_shapes():
     assert plan.twist(np.array([1.0])).shape == (1, 2)
     assert plan.wheel_speeds(1.0).shape == (2,)
     assert plan.wheel_speeds([1.0, 2.0, 3.0]).shape == (3, 2)
-    assert plan.evaluate(2.0).x.shape == (1,)
+    assert plan.state(2.0).x.shape == (1,)
 
 
 def test_wheel_speeds_follow_the_twist():
@@ -266,7 +266,7 @@ def test_wheel_speeds_follow_the_twist():
 @given(st.one_of(st.floats(-1e3, -1e-9), st.floats(7.7 + 1e-9, 1e3)))
 def test_outside_the_plan_the_pose_is_held_with_zero_twist(t):
     plan = reference()
-    state = plan.evaluate(t)
+    state = plan.state(t)
     end = plan.start_pose if t < 0 else plan.end_pose
     np.testing.assert_array_equal(state.pose[0], end)
     for rate in (state.v, state.omega, state.acceleration, state.angular_acceleration):
@@ -290,7 +290,7 @@ def test_ends_themselves_keep_their_twist():
 )
 def test_evaluate_refuses_bad_times(t, match):
     with pytest.raises(InvalidInputError, match=match):
-        reference().evaluate(t)
+        reference().state(t)
 
 
 def test_times_include_the_end():
@@ -299,7 +299,7 @@ def test_times_include_the_end():
     support.assert_state(t[:-1], 0.5 * np.arange(t.size - 1), rtol=ROUNDING)
     assert t[-1] == plan.duration
     assert np.all(np.diff(t) > 0) and np.diff(t).max() <= 0.5 * (1 + ROUNDING)
-    with pytest.raises(InvalidInputError, match=r"dt must be > 0, got 0 s"):
+    with pytest.raises(InvalidInputError, match=r"sample_step must be > 0, got 0 s"):
         plan.times(0.0)
 
 
@@ -431,7 +431,7 @@ def test_to_csv_reads_back_exactly(tmp_path):
     lines = path.read_text().splitlines()
     assert lines[0] == UNICYCLE_HEADER
     table = np.loadtxt(path, delimiter=",", skiprows=1)
-    state = plan.evaluate(plan.times(0.1))
+    state = plan.state(plan.times(0.1))
     expected = np.stack([state.t, state.x, state.y, state.theta, state.v, state.omega,
                          state.acceleration, state.angular_acceleration], 1)  # fmt: skip
     np.testing.assert_array_equal(table, expected)
@@ -446,7 +446,7 @@ def test_to_csv_adds_wheels_for_a_diff_drive(tmp_path):
     assert table.shape == (9, 10)
     np.testing.assert_array_equal(table[:, 8:], plan.wheel_speeds(plan.times(0.25)))
     support.assert_state(table[-1, 1:4], arc_pose([0, 0, 0], 0.5, 0.2, 2.0), rtol=WORLD_ROUNDING)
-    with pytest.raises(InvalidInputError, match=r"dt must be > 0"):
+    with pytest.raises(InvalidInputError, match=r"sample_step must be > 0"):
         plan.to_csv(tmp_path / "bad.csv", -0.1)
 
 

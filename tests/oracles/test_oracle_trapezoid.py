@@ -99,7 +99,7 @@ def trajkit_plan(problem: dict, sync, dt: float | None = None) -> tk.Trajectory:
         vmax, amax = problem["vmax"], problem["amax"]
     return tk.trapezoidal(
         problem["q0"], problem["qf"], vmax, amax,
-        v0=problem["v0"], vf=problem["vf"], sync=sync, dt=dt,
+        v0=problem["v0"], vf=problem["vf"], sync=sync, period=dt,
     )  # fmt: skip
 
 

@@ -26,7 +26,7 @@ def cases():
     phase = tk.scurve([0.0, 0.0], [1.0, 2.0], 1.0, 2.0, 10.0, sync="phase")
     trapezoid = tk.trapezoidal([0.0, 0.0], [1.0, -3.0], 1.0, 2.0, v0=[0.5, 0.0], vf=[0.0, -0.5])
     beyond = tk.scurve([0.0], [1.0], 1.0, 2.0, 10.0, v0=[1.5])
-    grid = tk.trapezoidal([0.0, 0.0], [1.0, 2.0], 1.0, 1.0, dt=0.01)
+    grid = tk.trapezoidal([0.0, 0.0], [1.0, 2.0], 1.0, 1.0, period=0.01)
     batch = trajkit.batch.scurve([[0.0, 0.0], [0.5, -0.5]], [[1.0, 2.0], [-1.0, 0.0]],
                                  1.0, 2.0, 8.0)
     generator = tk.online.Generator(2, 0.01, 1.0, 2.0, 10.0)

@@ -102,7 +102,7 @@ def test_phase_sync_moves_on_a_straight_line(p):
 def test_dt_quantizes_every_switch_and_costs_at_most_three_periods(p, sync):
     dt = 0.002
     continuous = plan(p, sync=sync)
-    tr = plan(p, sync=sync, dt=dt)
+    tr = plan(p, sync=sync, period=dt)
     assert tr.check(limits(p)).ok
     assert_boundaries(tr, p)
     steps = np.array(tr.info["phase_times"]) / dt
@@ -116,7 +116,7 @@ def test_dt_quantizes_every_switch_and_costs_at_most_three_periods(p, sync):
 
 def test_dt_excess_case_where_two_periods_do_not_suffice():
     continuous = tk.scurve(0.0, 2.0, 1.32662371, 1.9, 43.0)
-    quantized = tk.scurve(0.0, 2.0, 1.32662371, 1.9, 43.0, dt=0.002)
+    quantized = tk.scurve(0.0, 2.0, 1.32662371, 1.9, 43.0, period=0.002)
     assert quantized.check(tk.Limits(velocity=1.32662371, acceleration=1.9, jerk=43.0)).ok
     assert 2 * 0.002 < quantized.duration - continuous.duration < 2.01 * 0.002
 
@@ -185,7 +185,7 @@ def test_info_describes_the_plan():
             tk.InvalidInputError,
             "sync must be 'time', 'phase', 'time_if_necessary', 'none' or None",
         ),
-        ({"dt": 0}, tk.InvalidInputError, "dt must be > 0"),
+        ({"period": 0}, tk.InvalidInputError, "period must be > 0"),
         ({"qf": [1, 2, 3], "vmax": [1, 1]}, tk.InvalidInputError, "has 2 joints but qf has 3"),
     ],
 )

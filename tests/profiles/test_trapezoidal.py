@@ -373,7 +373,7 @@ def test_negative_triangle_peak_mirrors_the_positive_one():
 @pytest.mark.parametrize("dt", [None, 0.002])
 def test_no_motion_is_a_zero_duration_standstill(sync, dt):
     q = np.array([0.3, -1.2, 0.0])
-    tr = tk.trapezoidal(q, q, 1.0, 2.0, sync=sync, dt=dt)
+    tr = tk.trapezoidal(q, q, 1.0, 2.0, sync=sync, period=dt)
     assert tr.duration == 0.0
     assert tr.info["minimum_durations"] == (0.0, 0.0, 0.0)
     assert np.all(np.array(tr.info["phase_times"]) == 0.0)
@@ -408,7 +408,7 @@ def test_phase_sync_with_a_still_joint_and_a_duration():
 
 
 def test_phase_sync_with_a_still_joint_and_dt():
-    tr = tk.trapezoidal([0.0, 0.0, 0.0], [1.0, 0.0, -2.0], 1.0, 1.0, sync="phase", dt=0.01)
+    tr = tk.trapezoidal([0.0, 0.0, 0.0], [1.0, 0.0, -2.0], 1.0, 1.0, sync="phase", period=0.01)
     assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0)).ok
     support.assert_state(tr.position(tr.duration), [1.0, 0.0, -2.0])
 
@@ -623,6 +623,28 @@ def test_subnormal_boundary_velocities_end_exactly(law, v0, vf, qf):
         assert (tr.start_state.position[0], tr.start_state.velocity[0]) == (0.0, v0)
     else:  # a change no duration can hold: the start is the end, one subnormal away
         assert abs(v0 - vf) <= 5e-324 and qf == 0.0
+
+
+@pytest.mark.parametrize("law", ["trapezoid", "scurve"])
+@pytest.mark.parametrize("speed", [1e-300, 7.09155576e-258, 1e-200, 1e-162, 1e-17])
+@pytest.mark.parametrize("period", [None, 0.01])
+@pytest.mark.parametrize("sync", ["time", None])
+def test_standing_in_a_tiny_moving_target_state(law, speed, period, sync):
+    # Found by hypothesis: standing in place at 7e-258 rad/s (the target state) was
+    # "no fastest profile": the speed counts as rest, yet the engine then sought the
+    # long way round (4e-258 s) in units of 1e-258 s, where 1 rad/s^2 underflows to 0.
+    kwargs = {"v0": [speed, 0.0], "vf": [speed, 0.0], "period": period, "sync": sync}
+    if law == "trapezoid":
+        tr = tk.trapezoidal([0.0, 0.0], [0.0, 1.0], 1.0, 1.0, **kwargs)
+    else:
+        tr = tk.scurve([0.0, 0.0], [0.0, 1.0], 1.0, 1.0, 10.0, **kwargs)
+    jerk = None if law == "trapezoid" else 10.0
+    assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0, jerk=jerk)).ok
+    assert tr.end_state.velocity[0] == speed
+    assert abs(tr.end_state.position[0]) <= 1e-8  # the laws' position tolerance
+    assert tr.end_state.position[1] == 1.0
+    if period is not None:
+        assert_whole_multiples([tr.duration], period, "duration")
 
 
 def test_a_long_coast_lands_its_end_state_exactly():
@@ -930,8 +952,8 @@ def test_property_dt_rest_to_rest(problem, dt, sync):
     if has_negligible_move(problem):
         reject()  # no motion under dt: test_dt_negligible_moves
     continuous = plan(problem, sync=sync)
-    tr = plan(problem, sync=sync, dt=dt)
-    assert tr.info["dt"] == dt
+    tr = plan(problem, sync=sync, period=dt)
+    assert tr.info["period"] == dt
     assert_whole_multiples(tr.info["phase_times"], dt, "phase times")
     assert_whole_multiples([tr.duration], dt, "duration")
     # At most one period past the continuous optimum rounded up: less than 2 dt longer.
@@ -953,11 +975,11 @@ def test_property_dt_moving_boundaries(problem, dt, sync):
     if has_negligible_move(problem):
         reject()  # no motion under dt: test_dt_negligible_moves
     try:
-        tr = plan(problem, sync=sync, dt=dt)
+        tr = plan(problem, sync=sync, period=dt)
     except tk.InfeasibleError as error:
         # Moving boundaries can block every duration near the optimum (a joint that
         # cannot slow down in time): see test_dt_when_nearby_durations_are_blocked.
-        assert "whole multiples of dt" in str(error)
+        assert "whole multiples of period=" in str(error)
         reject()
     assert_phases_consistent(tr, problem)
     assert_whole_multiples(tr.info["phase_times"], dt, "phase times")
@@ -975,7 +997,7 @@ def test_dt_asymmetric_acceleration_at_rest_stays_within_two_periods():
     first = int(np.ceil(continuous.duration / dt))
     found = whole_step_profiles(D, 0.0, 0.0, V, V, upper, -lower, dt, first, (40, 90), (480, 540))
     assert len(found) > 0  # a whole-step profile exists at the first period after the optimum
-    tr = tk.trapezoidal(0.0, D, V, (lower, upper), sync=None, dt=dt)
+    tr = tk.trapezoidal(0.0, D, V, (lower, upper), sync=None, period=dt)
     assert tr.duration < continuous.duration + 2 * dt  # documented: "at most 2 dt longer"
 
 
@@ -990,7 +1012,7 @@ def test_dt_asymmetric_acceleration_at_rest_is_feasible():
         (int(t1) - 40, int(t1) + 40), (int(n3) - 40, int(n3) + 40),
     )  # fmt: skip
     assert len(found) > 0
-    tr = tk.trapezoidal(0.0, D, V, (lower, upper), sync=None, dt=dt)
+    tr = tk.trapezoidal(0.0, D, V, (lower, upper), sync=None, period=dt)
     assert tr.duration <= (first + 1) * dt * (1 + ROUNDING)
 
 
@@ -1003,7 +1025,7 @@ def test_dt_with_a_moving_end_is_feasible():
     assert [1849.0, 75.0, 4515.0] in found[:, :3].tolist()
     _, _, _, vp, a1, a3 = found[0]
     assert abs(a1) <= A and abs(a3) <= A and abs(vp) <= V
-    tr = tk.trapezoidal(0.0, D, V, A, vf=vf, sync=None, dt=dt)
+    tr = tk.trapezoidal(0.0, D, V, A, vf=vf, sync=None, period=dt)
     assert tr.duration <= (first + 1) * dt * (1 + ROUNDING)
 
 
@@ -1011,7 +1033,7 @@ def test_dt_with_a_moving_end_is_feasible():
 def test_dt_zero_step_phases_keep_the_end_velocity(sync):
     # Continuous: down for 3.3 ms, up for 7.9 ms (under 2 periods each). A zero-step
     # rise and fall once passed for a profile standing still and ending at v0, not vf.
-    tr = tk.trapezoidal([0.0, 0.0], [0.0, 0.0], 0.25, [54.0, 1.0], vf=0.25, sync=sync, dt=0.002)
+    tr = tk.trapezoidal([0.0, 0.0], [0.0, 0.0], 0.25, [54.0, 1.0], vf=0.25, sync=sync, period=0.002)
     problem = {"q0": np.zeros(2), "qf": np.zeros(2), "v0": np.zeros(2), "vf": np.full(2, 0.25)}
     assert_start_and_end(tr, problem, own_end=sync is None)
     assert_phases_consistent(tr, problem)
@@ -1039,7 +1061,7 @@ def test_dt_when_nearby_durations_are_blocked():
         window = (0, steps + 1)  # every split, zero-step phases included
         found = whole_step_profiles(qf - q0, v0, vf, V, V, A, A, dt, steps, window, window)
         assert len(found) == 0
-    tr = tk.trapezoidal(q0, qf, V, A, v0=v0, vf=vf, sync=None, dt=dt)
+    tr = tk.trapezoidal(q0, qf, V, A, v0=v0, vf=vf, sync=None, period=dt)
     assert tr.duration > (first + 16) * dt
     assert_whole_multiples(tr.info["phase_times"], dt, "phase times")
     support.assert_state(tr.position(tr.duration), [qf])
@@ -1052,7 +1074,7 @@ def test_dt_when_the_minimum_is_a_multiple_but_for_rounding(grid):
     # fmod(2.0, 0.01) is 0.00999999999999989: rounding 2 s "up" to whole periods gave
     # 1.9999999999999998 s, below the slower joint's own minimum, so no common
     # duration was found.
-    tr = tk.trapezoidal([0.0, 0.5], [1.0, -1.0], 1.0, 2.0, dt=0.01, grid=grid)
+    tr = tk.trapezoidal([0.0, 0.5], [1.0, -1.0], 1.0, 2.0, period=0.01, grid=grid)
     assert tr.duration == pytest.approx(2.0, rel=CLOSED_FORM)
     support.assert_state(tr.position(tr.duration), [1.0, -1.0])
     assert tr.check(tk.Limits(velocity=1.0, acceleration=2.0)).ok
@@ -1060,7 +1082,7 @@ def test_dt_when_the_minimum_is_a_multiple_but_for_rounding(grid):
 
 @pytest.mark.parametrize("sync", SYNC_MODES)
 def test_dt_negligible_moves(sync):
-    tr = tk.trapezoidal([0.0, 0.0], [1e-200, 1.0], 1.0, 1.0, sync=sync, dt=0.01)
+    tr = tk.trapezoidal([0.0, 0.0], [1e-200, 1.0], 1.0, 1.0, sync=sync, period=0.01)
     assert tr.duration == pytest.approx(2.0, rel=CLOSED_FORM)
     assert abs(tr.position(2.0)[0] - 1e-200) <= NEGLIGIBLE
     support.assert_state(tr.position(2.0), [0.0, 1.0])
@@ -1069,12 +1091,12 @@ def test_dt_negligible_moves(sync):
 def test_dt_planning_emits_no_runtime_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
-        tr = tk.trapezoidal([0.0, 0.0], [1e-3, 2.0], 1.0, 1.0, sync=None, dt=0.01)
+        tr = tk.trapezoidal([0.0, 0.0], [1e-3, 2.0], 1.0, 1.0, sync=None, period=0.01)
     assert_whole_multiples(tr.info["phase_times"], 0.01, "phase times")
 
 
 def test_dt_with_a_given_duration():
-    tr = tk.trapezoidal([0.0, 0.0], [1.0, 2.0], 1.0, 1.0, duration=5.0, dt=0.01)
+    tr = tk.trapezoidal([0.0, 0.0], [1.0, 2.0], 1.0, 1.0, duration=5.0, period=0.01)
     assert tr.duration == pytest.approx(5.0, rel=CLOSED_FORM)
     assert_whole_multiples(tr.info["phase_times"], 0.01, "phase times")
     assert tr.check(tk.Limits(velocity=1.0, acceleration=1.0)).ok
@@ -1125,7 +1147,7 @@ def test_seed_001_time_sync_uses_the_gentlest_profiles():
 
 def test_seed_001_at_a_2_ms_period():
     dt = 0.002
-    tr = tk.trapezoidal(np.zeros(6), SEED_001_QF, SEED_001_V, SEED_001_A, sync="phase", dt=dt)
+    tr = tk.trapezoidal(np.zeros(6), SEED_001_QF, SEED_001_V, SEED_001_A, sync="phase", period=dt)
     # 14.6071... rounds up to 7304 periods; the seed's hand sum 14.61 s is wrong.
     assert tr.duration == pytest.approx(7304 * dt, rel=ROUNDING)
     assert tr.duration == pytest.approx(14.608, rel=ROUNDING)
@@ -1248,7 +1270,7 @@ def test_blend_time_with_amax_and_two_joints():
 
 def test_blend_rule_with_dt():
     dt = 0.01
-    tr = tk.trapezoidal(0.0, DRIVE, vmax=V_MAX, blend_ratio=0.1, dt=dt)
+    tr = tk.trapezoidal(0.0, DRIVE, vmax=V_MAX, blend_ratio=0.1, period=dt)
     assert_whole_multiples([tr.duration], dt, "duration")
     assert_whole_multiples(tr.info["phase_times"], dt, "phase times")
     assert DRIVE / (V_MAX * 0.9) <= tr.duration < DRIVE / (V_MAX * 0.9) + 2 * dt
@@ -1287,8 +1309,8 @@ INVALID = [
     ({"duration": 0.0}, "duration must be > 0"),
     ({"duration": -1.0}, "duration must be > 0"),
     ({"duration": float("nan")}, "duration must be finite"),
-    ({"dt": 0.0}, "dt must be > 0"),
-    ({"dt": -0.002}, "dt must be > 0"),
+    ({"period": 0.0}, "period must be > 0"),
+    ({"period": -0.002}, "period must be > 0"),
     ({"vmax": None}, "trapezoidal needs vmax and amax"),
     ({"amax": None}, "trapezoidal needs vmax and amax"),
 ]

@@ -200,7 +200,7 @@ def test_a_batch_takes_shared_limits_a_floor_per_problem_and_a_duration_grid() -
     fast = tk.batch.velocity_change(v0, 0.0, 2.0, 4.0)
     np.testing.assert_allclose(slow.durations, np.maximum(floors, fast.durations), rtol=1e-12)
     np.testing.assert_array_equal(slow.velocity(slow.durations.max()), np.zeros((3, 2)))
-    grid = tk.batch.velocity_change(v0, 0.0, 2.0, 4.0, dt=0.01, grid="duration")
+    grid = tk.batch.velocity_change(v0, 0.0, 2.0, 4.0, period=0.01, grid="duration")
     periods = grid.durations / 0.01
     np.testing.assert_allclose(periods, np.round(periods), rtol=0, atol=1e-9 * periods.max())
     assert np.all(grid.durations >= fast.durations * (1 - 1e-12))
@@ -222,7 +222,7 @@ def test_a_batch_refuses_by_problem_and_by_name() -> None:
     with pytest.raises(InvalidInputError, match=r"jmax must be > 0|jmax"):
         tk.batch.velocity_change([[0.0]], [[1.0]], 2.0, 0.0)
     with pytest.raises(InfeasibleError, match=r"pass grid='duration'"):
-        tk.batch.velocity_change([[0.0]], [[1.0]], 2.0, 5.0, dt=0.01)
+        tk.batch.velocity_change([[0.0]], [[1.0]], 2.0, 5.0, period=0.01)
 
 
 _speed = st.floats(-5.0, 5.0, allow_nan=False)

@@ -236,10 +236,10 @@ PERIOD = "[controller]\nperiod = 0.01\n"
         ("scurve", 'sync = "time_if_necessary"', "", {"sync": "time_if_necessary"}),
         ("trapezoid", 'sync = "time_if_necessary"\nvf = [0.2, 0]', "",
          {"sync": "time_if_necessary", "vf": [0.2, 0.0]}),
-        ("scurve", 'grid = "duration"', PERIOD, {"grid": "duration", "dt": 0.01}),
+        ("scurve", 'grid = "duration"', PERIOD, {"grid": "duration", "period": 0.01}),
         ("trapezoid", 'grid = "duration"\nmin_duration = 2.345', PERIOD,
-         {"grid": "duration", "min_duration": 2.345, "dt": 0.01}),
-        ("scurve", 'grid = "switches"', PERIOD, {"grid": "switches", "dt": 0.01}),
+         {"grid": "duration", "min_duration": 2.345, "period": 0.01}),
+        ("scurve", 'grid = "switches"', PERIOD, {"grid": "switches", "period": 0.01}),
     ],
 )  # fmt: skip
 def test_trapezoid_and_scurve_options_reach_the_planner(profile, keys, controller, kwargs,
@@ -556,7 +556,7 @@ ELLIPSE = (
         (FIGURE8 + "offset = [1.7e308, 1.7e308]\n",  # once an overflow warning first
          "task.offset: expected at most 1e+09 m"),
         (ELLIPSE.replace("duration = 5.0", "duration = 1e12"),  # once a 728 TiB allocation
-         "task: dt=0.01 s over 1e+12 s gives 1e+14 samples; at most 1e+06 are made"),
+         "task: ik_step=0.01 s over 1e+12 s gives 1e+14 samples; at most 1e+06 are made"),
         (ELLIPSE.replace("duration = 5.0", "duration = 1e308"),  # once an OverflowError
          "task: duration must be at most 1e+12 s, got 1e+308 s"),
         (ELLIPSE.replace("duration = 5.0", "duration = 1e-300"),  # once "breakpoints needs
@@ -564,7 +564,7 @@ ELLIPSE = (
         (ELLIPSE.replace("duration = 5.0", "duration = 1e-9"),  # shorter than dt: start
          "task: the joint spline strays"),  # and end sampled, not the end alone
         (ELLIPSE.replace("duration = 5.0", "duration = 1e6"),
-         "task: dt=0.01 s over 1e+06 s gives 1e+08 samples; at most 1e+06 are made"),
+         "task: ik_step=0.01 s over 1e+06 s gives 1e+08 samples; at most 1e+06 are made"),
         ('name = "p"\n[task]\nkind = "polynomial"\ntimes = [-1e308, 1.0]\n'  # LinAlgError
          "[[task.segments]]\nconditions = [[0, 0, 0], [1, 0, 1]]\n",
          "task.times: expected times within ±1e+12 s"),

@@ -77,7 +77,7 @@ def tool_positions(robot: SerialChain, plan: JointSpacePlan, t: np.ndarray) -> n
 def seed003(**kwargs):
     arm = Spatial3R(*SEED003_LENGTHS)
     motion = timed(Line([0.0, -12.0, 20.0], [10.0, 12.0, 20.0]), "cubic", duration=10.0)
-    return arm, motion, to_joint_space(arm, motion, dt=0.01, **kwargs)
+    return arm, motion, to_joint_space(arm, motion, ik_step=0.01, **kwargs)
 
 
 def seed002(l1: float, l2: float, period: float = 5.0, **kwargs):
@@ -85,7 +85,7 @@ def seed002(l1: float, l2: float, period: float = 5.0, **kwargs):
     arm = Planar2R(l1, l2)
     segment = Ellipse([0.0, h, 0.0], 0.9 * np.sqrt((l1 + l2) ** 2 - h**2), 0.0)
     motion = timed(segment, "linear", duration=period)
-    return arm, motion, to_joint_space(arm, motion, dt=0.01, **kwargs)
+    return arm, motion, to_joint_space(arm, motion, ik_step=0.01, **kwargs)
 
 
 def assert_samples_are_interpolated(plan: JointSpacePlan) -> None:
@@ -103,7 +103,7 @@ def test_seed003_tool_follows_the_line_at_random_times():
     assert plan.path_error < PATH_TOL
     t = np.random.default_rng(2003).uniform(0.0, 10.0, 12_000)
     np.testing.assert_allclose(
-        tool_positions(arm, plan, t), motion.evaluate(t).position, rtol=0, atol=PATH_TOL
+        tool_positions(arm, plan, t), motion.state(t).position, rtol=0, atol=PATH_TOL
     )
     # Samples every dt, the last one at the end.
     assert plan.t.size == 1001 and plan.t[-1] == 10.0
@@ -113,11 +113,11 @@ def test_seed003_tool_follows_the_line_at_random_times():
 
 def test_seed003_samples_equal_the_seed_closed_form_ik():
     arm, motion, plan = seed003()
-    expected = seed003_ik(motion.evaluate(plan.t).position)
+    expected = seed003_ik(motion.state(plan.t).position)
     # All three of the seed's formulas agree with branch 0 along its line (z > l0).
     np.testing.assert_allclose(plan.q, expected, rtol=0, atol=IK_TOL)
     np.testing.assert_allclose(
-        arm.ik_branches(motion.evaluate(plan.t).position)[:, 0], expected, rtol=0, atol=IK_TOL
+        arm.ik_branches(motion.state(plan.t).position)[:, 0], expected, rtol=0, atol=IK_TOL
     )
 
 
@@ -150,7 +150,7 @@ def test_seed003_joint_spline_is_continuous_to_acceleration():
 
 def test_seed003_rates_come_from_the_jacobian():
     arm, motion, plan = seed003()
-    state = motion.evaluate(plan.t)
+    state = motion.state(plan.t)
     jacobian = arm.jacobian(plan.q)[:, :3]
     support.assert_state(np.einsum("mkj,mj->mk", jacobian, plan.qd), state.velocity, rtol=RATE_TOL)
     bias = np.einsum("mkj,mj->mk", arm.jacobian_dot(plan.q, plan.qd)[:, :3], plan.qd)
@@ -167,7 +167,7 @@ def test_seed003_every_branch_tracks_and_q_start_selects_it(branch):
     arm, motion, plan = seed003(branch=branch)
     t = np.linspace(0.0, 10.0, 2001)
     np.testing.assert_allclose(
-        tool_positions(arm, plan, t), motion.evaluate(t).position, rtol=0, atol=PATH_TOL
+        tool_positions(arm, plan, t), motion.state(t).position, rtol=0, atol=PATH_TOL
     )
     assert plan.ok
     by_name = to_joint_space(arm, motion, 0.01, branch=arm.branch_names[branch])
@@ -195,7 +195,7 @@ def test_seed002_tracks_the_harmonic_segment():
     assert plan.ok
     t = np.linspace(0.0, 5.0, 5001)
     np.testing.assert_allclose(
-        tool_positions(arm, plan, t), motion.evaluate(t).position, rtol=0, atol=PATH_TOL
+        tool_positions(arm, plan, t), motion.state(t).position, rtol=0, atol=PATH_TOL
     )
     # The tool is back where it started after one period, and so are the joints.
     np.testing.assert_allclose(plan.q[-1], plan.q[0], atol=IK_TOL)
@@ -208,7 +208,7 @@ def test_seed002_both_elbows_are_valid_and_different():
     t = np.linspace(0.0, 5.0, 1001)
     for plan in (positive, negative):
         np.testing.assert_allclose(
-            tool_positions(arm, plan, t), motion.evaluate(t).position, rtol=0, atol=PATH_TOL
+            tool_positions(arm, plan, t), motion.state(t).position, rtol=0, atol=PATH_TOL
         )
         assert plan.ok
     assert np.all(positive.q[:, 1] > 0.0) and np.all(negative.q[:, 1] < 0.0)
@@ -223,7 +223,7 @@ def test_seed002_both_elbows_are_valid_and_different():
 def test_seed002_formulas_are_branch_elbow_positive():
     l1, l2 = 1.0, 0.8
     _, motion, plan = seed002(l1, l2, branch="elbow_positive")
-    expected = seed002_ik(motion.evaluate(plan.t).position, l1, l2)
+    expected = seed002_ik(motion.state(plan.t).position, l1, l2)
     np.testing.assert_allclose(plan.q[:, 1], expected[:, 1], rtol=0, atol=IK_TOL)
     np.testing.assert_allclose(wrapped(plan.q[:, 0] - expected[:, 0]), 0.0, atol=IK_TOL)
 
@@ -236,14 +236,14 @@ def test_property_seed002_for_any_link_lengths(l1, l2):
     arm, motion, plan = seed002(l1, l2, branch="elbow_positive")
     t = np.linspace(0.0, 5.0, 2001)
     np.testing.assert_allclose(
-        tool_positions(arm, plan, t), motion.evaluate(t).position, rtol=0, atol=PATH_TOL
+        tool_positions(arm, plan, t), motion.state(t).position, rtol=0, atol=PATH_TOL
     )
-    expected = seed002_ik(motion.evaluate(plan.t).position, l1, l2)
+    expected = seed002_ik(motion.state(plan.t).position, l1, l2)
     np.testing.assert_allclose(plan.q[:, 1], expected[:, 1], rtol=0, atol=IK_TOL)
     np.testing.assert_allclose(wrapped(plan.q[:, 0] - expected[:, 0]), 0.0, atol=IK_TOL)
     _, _, negative = seed002(l1, l2, branch="elbow_negative")
     np.testing.assert_allclose(
-        tool_positions(arm, negative, t), motion.evaluate(t).position, rtol=0, atol=PATH_TOL
+        tool_positions(arm, negative, t), motion.state(t).position, rtol=0, atol=PATH_TOL
     )
     assert np.all(plan.q[:, 1] > 0.0) and np.all(negative.q[:, 1] < 0.0)
     assert plan.ok and negative.ok
@@ -256,14 +256,14 @@ def test_rrbot_tracks_a_circle_in_its_xz_plane(angle):
     center = np.array([-0.4, 0.2, 2.6])
     circle = Arc(center, center + np.array([0.0, 0.0, 0.25]), angle, normal=[0.0, 1.0, 0.0])
     motion = timed(circle, "trapezoid", vmax=0.4, amax=1.0)
-    plan = to_joint_space(bot, motion, dt=0.005)
+    plan = to_joint_space(bot, motion, ik_step=0.005)
     assert plan.ok
     # The trapezoid's acceleration jumps between samples, so the quintic spline strays a
     # little there: within the measured path_error, itself within the default tolerance.
     assert plan.path_error < 1e-6
     t = np.linspace(0.0, motion.duration, 4001)
     tool = tool_positions(bot, plan, t)
-    error = np.linalg.norm(tool - motion.evaluate(t).position, axis=1)
+    error = np.linalg.norm(tool - motion.state(t).position, axis=1)
     assert error.max() <= PATH_ERROR_FACTOR * plan.path_error + EXACT
     np.testing.assert_allclose(tool[:, 1], 0.2, atol=PATH_TOL)  # the arm's plane
     np.testing.assert_allclose(
@@ -271,14 +271,14 @@ def test_rrbot_tracks_a_circle_in_its_xz_plane(angle):
     )
     # At the samples themselves the tool is on the circle to rounding.
     at_samples = bot.fk(plan.q)[:, :3, 3]
-    np.testing.assert_allclose(at_samples, motion.evaluate(plan.t).position, atol=PATH_TOL)
+    np.testing.assert_allclose(at_samples, motion.state(plan.t).position, atol=PATH_TOL)
 
 
 def test_rrbot_cannot_leave_its_plane():
     bot = RRBot()
     motion = timed(Line([0.3, 0.2, 3.0], [0.3, 0.5, 3.0]), "quintic", duration=1.0)
     with pytest.raises(UnreachableError, match=r"task sample at t=0\.1 s") as excinfo:
-        to_joint_space(bot, motion, dt=0.1)
+        to_joint_space(bot, motion, ik_step=0.1)
     assert excinfo.value.index == 1
 
 
@@ -296,7 +296,7 @@ def test_ur5_full_pose_motion_between_two_configurations(limits):
     poses = ur5.fk(np.stack([UR5_A, UR5_B]))
     profile = "quintic" if "durations" in limits else "trapezoid"
     motion = through_poses(poses, profile, **limits)
-    plan = to_joint_space(ur5, motion, dt=0.01, q_start=UR5_A)
+    plan = to_joint_space(ur5, motion, ik_step=0.01, q_start=UR5_A)
     assert plan.ok, plan.problems()
     np.testing.assert_allclose(plan.q[0], UR5_A, atol=IK_TOL)
     # The goal pose is reached in the configuration it came from (same branch).
@@ -304,13 +304,13 @@ def test_ur5_full_pose_motion_between_two_configurations(limits):
     assert plan.path_error < 1e-6  # the default tolerance, position and orientation
     t = np.linspace(0.0, motion.duration, 1501)
     reached = ur5.fk(plan.trajectory.position(t))
-    desired = motion.evaluate(t)
+    desired = motion.state(t)
     np.testing.assert_allclose(reached[:, :3, 3], desired.position, atol=1e-6)
     angle = np.linalg.norm(rotation_error(desired.rotation, reached[:, :3, :3]), axis=1)
     assert angle.max() < 1e-6
     # Angular rows of J q̇ follow the SLERP's angular velocity at the samples.
     twist = np.einsum("mkj,mj->mk", ur5.jacobian(plan.q), plan.qd)
-    state = motion.evaluate(plan.t)
+    state = motion.state(plan.t)
     support.assert_state(twist[:, 3:], state.angular_velocity, rtol=1e-8)
     support.assert_state(twist[:, :3], state.velocity, rtol=1e-8)
 
@@ -319,10 +319,10 @@ def test_ur5_position_only_motion():
     ur5 = UR5()
     points = ur5.fk(np.stack([UR5_A, UR5_B]))[:, :3, 3]
     motion = through_poses(points, "quintic", durations=[3.0])
-    plan = to_joint_space(ur5, motion, dt=0.01, q_start=UR5_A)
+    plan = to_joint_space(ur5, motion, ik_step=0.01, q_start=UR5_A)
     np.testing.assert_allclose(plan.q[0], UR5_A, atol=IK_TOL)
     t = np.linspace(0.0, 3.0, 601)
-    np.testing.assert_allclose(tool_positions(ur5, plan, t), motion.evaluate(t).position, atol=1e-8)
+    np.testing.assert_allclose(tool_positions(ur5, plan, t), motion.state(t).position, atol=1e-8)
 
 
 # ----------------------------------------------------------------------- unreachable
@@ -331,7 +331,7 @@ def test_unreachable_sample_gives_its_time_and_index():
     # x = 1 + 0.95 t leaves the annulus r <= 1.8 at t = 0.842: first sample outside 0.85 s.
     motion = timed(Line([1.0, 0.0, 0.0], [2.9, 0.0, 0.0]), "linear", duration=2.0)
     with pytest.raises(UnreachableError, match=r"t=0\.85 s") as excinfo:
-        to_joint_space(arm, motion, dt=0.01)
+        to_joint_space(arm, motion, ik_step=0.01)
     assert type(excinfo.value) is UnreachableError
     assert excinfo.value.index == 85
     assert "out of reach" in str(excinfo.value)
@@ -341,9 +341,9 @@ def test_unreachable_sample_of_the_spatial_arm():
     arm = Spatial3R(*SEED003_LENGTHS)
     motion = timed(Line([0.0, -12.0, 20.0], [0.0, -12.0, 60.0]), "linear", duration=4.0)
     with pytest.raises(UnreachableError, match=r"task sample at t=[0-9.]+ s") as excinfo:
-        to_joint_space(arm, motion, dt=0.05)
+        to_joint_space(arm, motion, ik_step=0.05)
     k = excinfo.value.index
-    far = np.linalg.norm(motion.evaluate(np.arange(81) * 0.05).position - [0.0, 0.0, 5.0], axis=1)
+    far = np.linalg.norm(motion.state(np.arange(81) * 0.05).position - [0.0, 0.0, 5.0], axis=1)
     limit = np.hypot(10.0, 20.0)  # farthest reach from joint 1
     assert far[k] > limit and np.all(far[:k] <= limit)
 
@@ -352,7 +352,7 @@ def test_unreachable_sample_of_a_numerical_chain():
     arm = SerialChain.from_dh([DHRow(a=1.0), DHRow(a=0.5)])
     motion = timed(Line([1.0, 0.2, 0.0], [2.0, 0.2, 0.0]), "linear", duration=1.0)
     with pytest.raises(UnreachableError, match=r"task sample at t=0\.5 s") as excinfo:
-        to_joint_space(arm, motion, dt=0.05, q_start=[0.0, 0.5])
+        to_joint_space(arm, motion, ik_step=0.05, q_start=[0.0, 0.5])
     assert type(excinfo.value) is UnreachableError
     # The first sample past r = 1.5 (index 10, r = 1.513), not the first coarse IK knot
     # that fails (index 11).
@@ -364,7 +364,7 @@ def test_unreachable_sample_of_a_numerical_chain():
 def test_a_line_out_to_full_stretch_is_reported_singular():
     arm = Planar2R(1.0, 1.0)
     motion = timed(Line([1.0, 0.0, 0.0], [2.0, 0.0, 0.0]), "quintic", duration=1.0)
-    plan = to_joint_space(arm, motion, dt=0.01)
+    plan = to_joint_space(arm, motion, ik_step=0.01)
     assert plan.singular_time is not None and not plan.ok
     k = np.flatnonzero(plan.inverse_condition < 1e-3)[0]
     assert plan.singular_time == plan.t[k]
@@ -378,11 +378,11 @@ def test_out_to_full_stretch_and_back():
     motion = through_poses(
         [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [1.0, 0.5, 0.0]], "quintic", durations=[1.0, 1.0]
     )
-    plan = to_joint_space(arm, motion, dt=0.01)
+    plan = to_joint_space(arm, motion, ik_step=0.01)
     assert plan.singular_time is not None and plan.singular_time <= 1.0 < plan.t[-1]
     assert not plan.ok
     # A lower threshold ignores it everywhere but the stretched sample itself.
-    strict = to_joint_space(arm, motion, dt=0.01, singularity_threshold=1e-12)
+    strict = to_joint_space(arm, motion, ik_step=0.01, singularity_threshold=1e-12)
     assert strict.singular_time == pytest.approx(1.0, abs=1e-9)
 
 
@@ -390,7 +390,7 @@ def test_a_line_through_the_folded_singularity_is_infeasible():
     arm = Planar2R(1.0, 1.0)  # the origin is reached folded, q2 = pi, with q1 arbitrary
     motion = timed(Line([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]), "quintic", duration=1.0)
     with pytest.raises(InfeasibleError, match="singularity") as excinfo:
-        to_joint_space(arm, motion, dt=0.01)
+        to_joint_space(arm, motion, ik_step=0.01)
     assert type(excinfo.value) is InfeasibleError
 
 
@@ -401,21 +401,21 @@ def fast_line():
     return timed(Line([1.2, 0.3, 0.0], [0.3, 1.2, 0.0]), "quintic", duration=1.0)
 
 
-def test_too_coarse_a_dt_asks_for_a_smaller_one():
+def test_too_coarse_an_ik_step_asks_for_a_smaller_one():
     arm = Planar2R(1.0, 0.5)
-    with pytest.raises(InfeasibleError, match=r"use a smaller dt than 0\.1 s") as excinfo:
-        to_joint_space(arm, fast_line(), dt=0.1)
+    with pytest.raises(InfeasibleError, match=r"use a smaller ik_step than 0\.1 s") as excinfo:
+        to_joint_space(arm, fast_line(), ik_step=0.1)
     assert type(excinfo.value) is InfeasibleError
-    plan = to_joint_space(arm, fast_line(), dt=0.1, tolerance=1e-3)  # a loose tolerance passes
+    plan = to_joint_space(arm, fast_line(), ik_step=0.1, tolerance=1e-3)  # a loose tolerance passes
     assert 1e-6 < plan.path_error < 1e-3 and plan.t.size == 11
-    assert to_joint_space(arm, fast_line(), dt=0.02).path_error < 1e-9
+    assert to_joint_space(arm, fast_line(), ik_step=0.02).path_error < 1e-9
 
 
 def test_an_arc_about_the_base_is_exact_with_few_samples():
     # Turning the 2R rigidly about its base is a quintic in q1 alone: the spline is exact.
     arm = Planar2R(1.0, 0.8)
     motion = timed(Arc([0.0, 0.0, 0.0], [1.2, 0.0, 0.0], np.pi), "quintic", duration=1.0)
-    plan = to_joint_space(arm, motion, dt=0.5)
+    plan = to_joint_space(arm, motion, ik_step=0.5)
     assert plan.path_error < 1e-12 and plan.t.tolist() == [0.0, 0.5, 1.0]
     np.testing.assert_allclose(plan.q[:, 1], plan.q[0, 1], atol=EXACT)
 
@@ -423,7 +423,7 @@ def test_an_arc_about_the_base_is_exact_with_few_samples():
 def test_last_sample_lands_on_the_end_when_dt_does_not_divide_it():
     arm = Planar2R(1.0, 0.8)
     motion = timed(Arc([0.0, 0.0, 0.0], [1.2, 0.0, 0.0], 0.5), "quintic", duration=1.0)
-    plan = to_joint_space(arm, motion, dt=0.3, tolerance=1e-3)
+    plan = to_joint_space(arm, motion, ik_step=0.3, tolerance=1e-3)
     np.testing.assert_allclose(plan.t, [0.0, 0.3, 0.6, 0.9, 1.0], rtol=CLOSED_FORM)
     assert plan.t[-1] == 1.0
     assert_samples_are_interpolated(plan)
@@ -434,7 +434,7 @@ def test_velocity_limit_violation_is_reported_first_by_time():
     # On fast_line the joints peak at 2.28 and 1.45 rad/s; joint 2 is limited to 0.4.
     rows = [DHRow(a=1.0, velocity=5.0), DHRow(a=0.5, lower=-3.0, upper=3.0, velocity=0.4)]
     arm = SerialChain.from_dh(rows)
-    plan = to_joint_space(arm, fast_line(), dt=0.01, q_start=Q_FAST)
+    plan = to_joint_space(arm, fast_line(), ik_step=0.01, q_start=Q_FAST)
     assert not plan.ok and not plan.limits.ok
     limit = np.array([5.0, 0.4])
     over = np.abs(plan.qd) > limit * (1 + LIMIT_RTOL)
@@ -456,7 +456,7 @@ def test_generous_limits_are_ok():
         DHRow(a=0.5, lower=-3.0, upper=3.0, velocity=50.0),
     ]
     arm = SerialChain.from_dh(rows)
-    plan = to_joint_space(arm, fast_line(), dt=0.01, q_start=Q_FAST)
+    plan = to_joint_space(arm, fast_line(), ik_step=0.01, q_start=Q_FAST)
     assert plan.ok and plan.first_violation is None and plan.limits.ok
     assert set(plan.limits.peaks) == {"position", "velocity"}
 
@@ -485,9 +485,9 @@ def test_property_random_planar_lines_stay_within_path_error(data, l1, l2):
     start, end = data.draw(planar_lines(l1, l2))
     arm = Planar2R(l1, l2)
     motion = timed(Line(start, end), "quintic", duration=2.0)
-    plan = to_joint_space(arm, motion, dt=0.02, branch=data.draw(st.sampled_from([0, 1])))
+    plan = to_joint_space(arm, motion, ik_step=0.02, branch=data.draw(st.sampled_from([0, 1])))
     t = np.linspace(0.0, 2.0, 8001)
-    error = np.linalg.norm(tool_positions(arm, plan, t) - motion.evaluate(t).position, axis=1)
+    error = np.linalg.norm(tool_positions(arm, plan, t) - motion.state(t).position, axis=1)
     assert error.max() <= PATH_ERROR_FACTOR * plan.path_error + EXACT
     assert plan.path_error <= 1e-6 and plan.singular_time is None
 
@@ -506,7 +506,7 @@ def test_property_limit_check_agrees_with_dense_sampling(data, vlimit):
     start, end = data.draw(planar_lines(1.0, 0.5))
     q_start = wrapped(Planar2R(1.0, 0.5).ik_branches(start)[data.draw(st.sampled_from([0, 1]))])
     motion = timed(Line(start, end), "quintic", duration=1.5)
-    plan = to_joint_space(arm, motion, dt=0.02, q_start=q_start)
+    plan = to_joint_space(arm, motion, ik_step=0.02, q_start=q_start)
     t = np.linspace(0.0, 1.5, 6001)
     velocity = plan.trajectory.velocity(t)
     reported = [v for v in plan.limits.violations if v.quantity == "velocity"]
@@ -549,31 +549,46 @@ PLAIN = timed(Line([0.0, -12.0, 20.0], [10.0, 12.0, 20.0]), "cubic", duration=10
 @pytest.mark.parametrize(
     ("call", "message"),
     [
-        (lambda: to_joint_space(Spatial3R(), PLAIN, dt=0.0), "dt must be > 0"),
-        (lambda: to_joint_space(Spatial3R(), PLAIN, dt=-0.01), "dt must be > 0"),
-        (lambda: to_joint_space(Spatial3R(), PLAIN, dt=np.nan), "dt must be finite"),
-        (lambda: to_joint_space(Spatial3R(), PLAIN, dt=np.inf), "dt must be finite"),
-        (lambda: to_joint_space(Spatial3R(), PLAIN, dt=[0.1, 0.2]), "dt must be a single"),
-        (lambda: to_joint_space(Spatial3R(), ORIENTED, dt=0.1), "sets only its tool position"),
-        (lambda: to_joint_space(Planar2R(1, 1), ORIENTED, dt=0.1), "sets only its tool position"),
-        (lambda: to_joint_space("arm", PLAIN, dt=0.1), "robot must be a trajkit SerialChain"),
-        (lambda: to_joint_space(Spatial3R(), "line", dt=0.1), "task must be a TaskTrajectory"),
+        (lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=0.0), "ik_step must be > 0"),
+        (lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=-0.01), "ik_step must be > 0"),
+        (lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=np.nan), "ik_step must be finite"),
+        (lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=np.inf), "ik_step must be finite"),
         (
-            lambda: to_joint_space(Spatial3R(), PLAIN, dt=0.1, q_start=[0.0, 0.0]),
+            lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=[0.1, 0.2]),
+            "ik_step must be a single",
+        ),
+        (lambda: to_joint_space(Spatial3R(), ORIENTED, ik_step=0.1), "sets only its tool position"),
+        (
+            lambda: to_joint_space(Planar2R(1, 1), ORIENTED, ik_step=0.1),
+            "sets only its tool position",
+        ),
+        (lambda: to_joint_space("arm", PLAIN, ik_step=0.1), "robot must be a trajkit SerialChain"),
+        (lambda: to_joint_space(Spatial3R(), "line", ik_step=0.1), "task must be a TaskTrajectory"),
+        (
+            lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=0.1, q_start=[0.0, 0.0]),
             r"q_start must have shape \(3,\)",
         ),
         (
-            lambda: to_joint_space(Spatial3R(), PLAIN, dt=0.1, q_start=[0.0, np.nan, 0.0]),
+            lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=0.1, q_start=[0.0, np.nan, 0.0]),
             "q_start must be finite",
         ),
-        (lambda: to_joint_space(Spatial3R(), PLAIN, dt=0.1, tolerance=0.0), "tolerance must be"),
         (
-            lambda: to_joint_space(Spatial3R(), PLAIN, dt=0.1, singularity_threshold=np.nan),
+            lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=0.1, tolerance=0.0),
+            "tolerance must be",
+        ),
+        (
+            lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=0.1, singularity_threshold=np.nan),
             "singularity_threshold must be finite",
         ),
-        (lambda: to_joint_space(Spatial3R(), PLAIN, dt=0.1, branch="sideways"), "branch must be"),
-        (lambda: to_joint_space(Spatial3R(), PLAIN, dt=0.1, branch=4), "branch must be an index"),
-        (lambda: to_joint_space(UR5(), ORIENTED, dt=0.1, branch=0), "closed-form arms only"),
+        (
+            lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=0.1, branch="sideways"),
+            "branch must be",
+        ),
+        (
+            lambda: to_joint_space(Spatial3R(), PLAIN, ik_step=0.1, branch=4),
+            "branch must be an index",
+        ),
+        (lambda: to_joint_space(UR5(), ORIENTED, ik_step=0.1, branch=0), "closed-form arms only"),
     ],
 )
 def test_bad_input_raises_invalid_input_error(call, message):
@@ -585,12 +600,12 @@ def test_bad_input_raises_invalid_input_error(call, message):
 # ---------------------------------------------------------------------- known bugs
 def test_q_start_with_several_rows_is_refused():
     with pytest.raises(InvalidInputError, match="q_start"):
-        to_joint_space(Spatial3R(), PLAIN, dt=0.1, q_start=[[0.8, -1.6, 1.2], [0.0, 0.0, 0.0]])
+        to_joint_space(Spatial3R(), PLAIN, ik_step=0.1, q_start=[[0.8, -1.6, 1.2], [0.0, 0.0, 0.0]])
 
 
 def test_a_velocity_limit_on_some_joints_only_makes_the_plan_not_ok():
     arm = SerialChain.from_dh([DHRow(a=1.0, velocity=0.5), DHRow(a=0.5)])
-    plan = to_joint_space(arm, fast_line(), dt=0.01, q_start=Q_FAST)
+    plan = to_joint_space(arm, fast_line(), ik_step=0.01, q_start=Q_FAST)
     assert plan.first_violation is not None and plan.first_violation[2] == "velocity"
     assert plan.problems()  # it is reported...
     assert not plan.ok  # ...but ok must agree: "True when no limit is broken"
@@ -609,7 +624,7 @@ def test_first_violation_reports_a_one_sided_position_limit():
 
     arm = OneSided()
     motion = timed(Line([0.45, 1.1, 0.0], [0.35, 1.2, 0.0]), "quintic", duration=1.0)
-    plan = to_joint_space(arm, motion, dt=0.01, branch="elbow_negative")
+    plan = to_joint_space(arm, motion, ik_step=0.01, branch="elbow_negative")
     assert np.all(plan.q[:, 0] > 1.0)
     assert any(v.quantity == "position" and v.joint == 0 for v in plan.limits.violations)
     assert plan.first_violation == (0.0, 0, "position")

@@ -81,7 +81,7 @@ def law_times(motion: TaskTrajectory) -> np.ndarray:
 def dense_state(motion: TaskTrajectory):
     """The motion at dense samples plus the times where its peaks occur."""
     t = np.sort(np.concatenate([np.linspace(0.0, motion.duration, DENSE), law_times(motion)]))
-    return motion.evaluate(np.clip(t, 0.0, motion.duration))
+    return motion.state(np.clip(t, 0.0, motion.duration))
 
 
 def peak(values: np.ndarray) -> float:
@@ -144,7 +144,7 @@ def test_a_trajectory_law_is_used_as_given_and_shifted_to_start_at_zero():
     np.testing.assert_allclose(shifted.position(t), law.position(t), atol=EXACT)
     motion = timed(Line([0.0, 0.0, 0.0], [2.0, 0.0, 0.0]), late)
     np.testing.assert_allclose(
-        motion.evaluate(t).position[:, 0], 2.0 * law.position(t)[:, 0], atol=EXACT
+        motion.state(t).position[:, 0], 2.0 * law.position(t)[:, 0], atol=EXACT
     )
 
 
@@ -201,7 +201,7 @@ def test_polynomial_laws_on_a_line_reach_the_binding_limit(profile):
 
 def test_linear_law_on_a_line_runs_at_vmax():
     motion = timed(Line(*SEED_LINE), "linear", vmax=2.0)
-    speed = np.linalg.norm(motion.evaluate(np.linspace(0, motion.duration, 101)).velocity, axis=1)
+    speed = np.linalg.norm(motion.state(np.linspace(0, motion.duration, 101)).velocity, axis=1)
     np.testing.assert_allclose(speed, 2.0, rtol=LIMIT_RTOL)
     assert motion.duration == pytest.approx(13.0, rel=CLOSED_FORM)
 
@@ -262,7 +262,7 @@ def test_seed003_cubic_line_closed_form():
     t = np.linspace(0.0, duration, 1001)
     s = t / duration
     delta = x1 - x0
-    state = motion.evaluate(t)
+    state = motion.state(t)
     np.testing.assert_allclose(
         state.position, x0 + (3 * s**2 - 2 * s**3)[:, None] * delta, rtol=0, atol=SEED003
     )
@@ -272,7 +272,7 @@ def test_seed003_cubic_line_closed_form():
     np.testing.assert_allclose(
         state.acceleration, (6 - 12 * s)[:, None] * delta / duration**2, rtol=0, atol=SEED003
     )
-    np.testing.assert_allclose(motion.evaluate(5.0).position, [[5.0, 0.0, 20.0]], atol=SEED003)
+    np.testing.assert_allclose(motion.state(5.0).position, [[5.0, 0.0, 20.0]], atol=SEED003)
 
 
 # -------------------------------------------------------------- derivatives of motions
@@ -299,7 +299,7 @@ def test_velocity_and_acceleration_are_derivatives_of_the_motion(name):
         knot = motion.segments[0].path.knots[1]
         u = motion.segments[0].law.position(t)[:, 0]
         t = t[np.abs(u - knot) > 1e-3]
-    now, plus, minus = (motion.evaluate(t + d) for d in (0.0, FD_STEP, -FD_STEP))
+    now, plus, minus = (motion.state(t + d) for d in (0.0, FD_STEP, -FD_STEP))
     support.assert_state(
         now.velocity, (plus.position - minus.position) / (2 * FD_STEP), rtol=FINITE_DIFFERENCE
     )
@@ -313,7 +313,7 @@ def test_motion_follows_its_path_through_the_law():
     segment = motion.segments[0]
     t = np.linspace(0.0, motion.duration, 201)
     u = segment.law.position(t)[:, 0]
-    np.testing.assert_allclose(motion.evaluate(t).position, segment.path.evaluate(u), atol=EXACT)
+    np.testing.assert_allclose(motion.state(t).position, segment.path.evaluate(u), atol=EXACT)
     assert repr(motion).startswith("TaskTrajectory(segments=1")
 
 
@@ -333,12 +333,12 @@ def test_slerp_orientation(pair, profile):
     motion = timed(Line(*SEED_LINE), profile, orientation=(start, end), **kwargs)
     assert motion.has_orientation
     duration = motion.duration
-    ends = motion.evaluate([0.0, duration])
+    ends = motion.state([0.0, duration])
     np.testing.assert_allclose(ends.rotation[0], start, atol=EXACT)
     np.testing.assert_allclose(ends.rotation[1], end, atol=EXACT)
     np.testing.assert_allclose(ends.angular_velocity, 0.0, atol=EXACT)
     t = interior_times(motion, 101)
-    now, plus, minus = (motion.evaluate(t + d) for d in (0.0, FD_STEP, -FD_STEP))
+    now, plus, minus = (motion.state(t + d) for d in (0.0, FD_STEP, -FD_STEP))
     # Proper rotations all along.
     gram = now.rotation @ np.swapaxes(now.rotation, 1, 2)
     np.testing.assert_allclose(gram, np.broadcast_to(np.eye(3), gram.shape), atol=EXACT)
@@ -371,14 +371,14 @@ def test_slerp_orientation(pair, profile):
 def test_fixed_orientation_holds():
     fixed = rotation([0.2, -0.4, 0.9])
     motion = timed(curved_paths()["arc"], "quintic", duration=2.0, orientation=fixed)
-    state = motion.evaluate(np.linspace(0.0, 2.0, 51))
+    state = motion.state(np.linspace(0.0, 2.0, 51))
     np.testing.assert_allclose(state.rotation, np.broadcast_to(fixed, (51, 3, 3)), atol=EXACT)
     np.testing.assert_array_equal(state.angular_velocity, 0.0)
     np.testing.assert_array_equal(state.angular_acceleration, 0.0)
 
 
 def test_position_only_motion_has_no_orientation_fields():
-    state = motions()["line_cubic"].evaluate([0.0, 1.0])
+    state = motions()["line_cubic"].state([0.0, 1.0])
     assert state.rotation is None and state.angular_velocity is None
     assert state.angular_acceleration is None
     poses = state.poses()
@@ -397,7 +397,7 @@ def test_through_points_with_durations_rests_at_every_point(profile):
         motion = through_poses(POINTS, profile, durations=[3.0, 4.0, 5.0])
     assert not motion.has_orientation and len(motion.segments) == 3
     np.testing.assert_allclose(motion.breakpoints, [0.0, 3.0, 7.0, 12.0], rtol=CLOSED_FORM)
-    rest = motion.evaluate(motion.breakpoints)
+    rest = motion.state(motion.breakpoints)
     np.testing.assert_allclose(rest.position, POINTS, atol=EXACT)
     np.testing.assert_allclose(rest.velocity, 0.0, atol=EXACT)
     if profile in ("quintic", "septic"):
@@ -405,7 +405,7 @@ def test_through_points_with_durations_rests_at_every_point(profile):
     # Straight between the points: every sample of segment k is on its line.
     for k, start in enumerate(motion.breakpoints[:-1]):
         t = np.linspace(start, motion.breakpoints[k + 1], 41)
-        position = motion.evaluate(t).position
+        position = motion.state(t).position
         chord = POINTS[k + 1] - POINTS[k]
         offset = position - POINTS[k]
         np.testing.assert_allclose(np.cross(offset, chord), 0.0, atol=EXACT)
@@ -423,7 +423,7 @@ def test_through_points_with_limits_is_time_optimal_per_segment():
     state = dense_state(motion)
     assert peak(state.velocity) == pytest.approx(vmax, rel=LIMIT_RTOL)
     assert peak(state.acceleration) == pytest.approx(amax, rel=LIMIT_RTOL)
-    np.testing.assert_allclose(motion.evaluate(motion.breakpoints).velocity, 0.0, atol=EXACT)
+    np.testing.assert_allclose(motion.state(motion.breakpoints).velocity, 0.0, atol=EXACT)
 
 
 POSES = np.stack(
@@ -439,15 +439,15 @@ POSES = np.stack(
 def test_through_poses_with_durations_rests_and_passes_every_pose():
     motion = through_poses(POSES, "quintic", durations=[2.0, 1.0, 1.5])
     assert motion.has_orientation
-    rest = motion.evaluate(motion.breakpoints)
+    rest = motion.state(motion.breakpoints)
     np.testing.assert_allclose(rest.poses(), POSES, atol=EXACT)
     np.testing.assert_allclose(rest.velocity, 0.0, atol=EXACT)
     np.testing.assert_allclose(rest.angular_velocity, 0.0, atol=EXACT)
     # Pure moves and pure turns: the other part holds still.
-    state = motion.evaluate(np.linspace(3.0, 4.5, 51))  # the turn-only segment
+    state = motion.state(np.linspace(3.0, 4.5, 51))  # the turn-only segment
     np.testing.assert_allclose(state.position, np.tile(POSES[3, :3, 3], (51, 1)), atol=EXACT)
     np.testing.assert_allclose(state.velocity, 0.0, atol=EXACT)
-    state = motion.evaluate(np.linspace(2.0, 3.0, 51))  # the move-only segment
+    state = motion.state(np.linspace(2.0, 3.0, 51))  # the move-only segment
     np.testing.assert_allclose(
         state.rotation, np.broadcast_to(POSES[2, :3, :3], (51, 3, 3)), atol=EXACT
     )
@@ -471,7 +471,7 @@ def test_through_poses_honors_linear_and_angular_limits():
             peak(state.angular_acceleration[mine]) / alpha_max,
         )
         assert ratio == pytest.approx(1.0, rel=LIMIT_RTOL)
-    np.testing.assert_allclose(motion.evaluate(motion.breakpoints).poses(), POSES, atol=EXACT)
+    np.testing.assert_allclose(motion.state(motion.breakpoints).poses(), POSES, atol=EXACT)
     # The first segment turns 0.8 rad against moving 0.316 m: the turn sets its time.
     assert motion.breakpoints[1] == pytest.approx(0.8 / wmax + wmax / alpha_max, rel=CLOSED_FORM)
 
@@ -491,8 +491,8 @@ def test_a_turn_in_place_is_timed_by_the_angular_limits():
 @pytest.mark.parametrize("name", ["line_cubic", "through_points"])
 def test_times_outside_the_motion_are_clamped(name):
     motion = motions()[name]
-    outside = motion.evaluate([-5.0, -1e-9, motion.duration + 1e-9, motion.duration + 100.0])
-    ends = motion.evaluate([0.0, motion.duration])
+    outside = motion.state([-5.0, -1e-9, motion.duration + 1e-9, motion.duration + 100.0])
+    ends = motion.state([0.0, motion.duration])
     for field in ("position", "velocity", "acceleration"):
         values = getattr(outside, field)
         np.testing.assert_array_equal(values[:2], np.repeat(getattr(ends, field)[:1], 2, axis=0))
@@ -506,7 +506,7 @@ def test_times_outside_the_motion_are_clamped(name):
 def test_clamping_holds_the_end_orientation():
     start, end = rotation([0.1, 0.2, 0.3]), rotation([0.0, -0.5, 1.0])
     motion = timed(Line([0, 0, 0], [1, 0, 0]), "quintic", duration=2.0, orientation=(start, end))
-    state = motion.evaluate([-1.0, 3.0])
+    state = motion.state([-1.0, 3.0])
     np.testing.assert_allclose(state.rotation[0], start, atol=EXACT)
     np.testing.assert_allclose(state.rotation[1], end, atol=EXACT)
     np.testing.assert_allclose(state.angular_velocity, 0.0, atol=EXACT)
@@ -518,7 +518,7 @@ def test_segments_join_at_their_breakpoints():
     np.testing.assert_allclose(motion.breakpoints, [0.0, 1.0, 3.0, 6.0], rtol=CLOSED_FORM)
     # Just before and just after each inner pose the tool is at that pose.
     inner = motion.breakpoints[1:-1]
-    before, after = motion.evaluate(inner - 1e-12), motion.evaluate(inner + 1e-12)
+    before, after = motion.state(inner - 1e-12), motion.state(inner + 1e-12)
     np.testing.assert_allclose(before.position, POINTS[1:-1], atol=1e-9)
     np.testing.assert_allclose(after.position, POINTS[1:-1], atol=1e-9)
 
@@ -622,7 +622,7 @@ SCALED_ROTATION = np.block([[np.full((3, 3), 2.0), np.ones((3, 1))], [np.ones((1
             ),
             "either every segment has an orientation or none has",
         ),
-        (lambda: motions()["line_cubic"].evaluate([0.0, np.nan]), "t must be finite"),
+        (lambda: motions()["line_cubic"].state([0.0, np.nan]), "t must be finite"),
     ],
 )
 def test_bad_input_raises_invalid_input_error(call, message):
@@ -652,7 +652,7 @@ def test_orientation_pair_given_as_a_list_is_a_pair_or_refused():
         motion = timed(LINE, "cubic", duration=1.0, orientation=[start, end])
     except InvalidInputError:
         return  # refusing it is fine
-    state = motion.evaluate([0.0, 0.5, 1.0])
+    state = motion.state([0.0, 0.5, 1.0])
     np.testing.assert_allclose(state.rotation[0], start, atol=EXACT)
     np.testing.assert_allclose(state.rotation[-1], end, atol=EXACT)
 

@@ -152,7 +152,7 @@ def test_faster_than_a_quintic_at_the_shortest_duration_within_the_limits(case):
 
     def quintic(duration: float) -> tk.Trajectory:
         motion = timed(path, "quintic", duration=duration)
-        return to_joint_space(robot, motion, dt=duration / samples, **options).trajectory
+        return to_joint_space(robot, motion, ik_step=duration / samples, **options).trajectory
 
     # The same u-samples at any duration: joint velocities scale with 1/T and
     # accelerations with 1/T², so the shortest duration within the limits is exact.

@@ -51,7 +51,7 @@ def test_mobile_from_a_plan_and_from_a_log(tmp_path):
     plan = mobile.constant_twist(0.2, 0.5, 3.0)
     count, _ = frames_of(animate.mobile(plan, tmp_path / "plan.gif", fps=3, size=2.0))
     assert count == 10
-    log = mobile.simulate(plan, dt=0.01, initial_pose=(0.05, 0.0, 0.0))
+    log = mobile.simulate(plan, sample_step=0.01, initial_pose=(0.05, 0.0, 0.0))
     count, _ = frames_of(animate.mobile(log, tmp_path / "log.gif", fps=3, speed=1.5, size=2.0))
     assert count == 7  # 2 s of animation: t = 0, 0.5, ..., 3.0 s
 

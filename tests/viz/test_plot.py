@@ -97,7 +97,7 @@ def arm_move():
 
     robot = Spatial3R()
     motion = timed(Line([0, -12, 20], [10, 12, 20]), "cubic", duration=10.0)
-    return robot, motion, to_joint_space(robot, motion, dt=0.1)
+    return robot, motion, to_joint_space(robot, motion, ik_step=0.1)
 
 
 @pytest.mark.parametrize("view", ["3d", "xy", "xz", "yz"])
@@ -159,7 +159,7 @@ def tracked(drive):
     from trajkit import mobile
 
     plan = mobile.flat_trajectory(mobile.FigureEight(2.0, 1.0, 20.0))
-    return mobile.simulate(plan, mobile.Kanayama(), dt=0.05, initial_pose=(0.2, -0.1, 0.5))
+    return mobile.simulate(plan, mobile.Kanayama(), sample_step=0.05, initial_pose=(0.2, -0.1, 0.5))
 
 
 def test_mobile_panels_of_a_plan(drive):

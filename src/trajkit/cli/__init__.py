@@ -436,10 +436,10 @@ def _summary(trajectory: Trajectory, limits: Limits, profile: str, unit: str, to
         lines[0] += f" (set by {what}joint {info['limiting_joint'] + 1})"
     if info.get("sync"):
         lines[0] += f", sync={info['sync']}"
-    if info.get("dt") and grid == "duration":
-        lines[0] += f", duration a multiple of period={info['dt']:g} s"
-    elif info.get("dt"):
-        lines[0] += f", switching on multiples of period={info['dt']:g} s"
+    if info.get("period") and grid == "duration":
+        lines[0] += f", duration a multiple of period={info['period']:g} s"
+    elif info.get("period"):
+        lines[0] += f", switching on multiples of period={info['period']:g} s"
     start, end = trajectory.start_state, trajectory.end_state
     with np.errstate(over="ignore"):  # a peak past 1.8e308 in degrees is shown as inf
         peaks = [trajectory.extrema(order).peak / to_si for order in (1, 2)]

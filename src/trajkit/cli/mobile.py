@@ -207,7 +207,7 @@ def run_mobile(args: argparse.Namespace) -> int:
         start = plan.start_pose + np.array([dx, dy, np.radians(dtheta)])
         controller = controller_named(args.controller)
         if args.sim == "kinematic":
-            log = simulate(plan, controller, dt=args.sample_step, initial_pose=start,
+            log = simulate(plan, controller, sample_step=args.sample_step, initial_pose=start,
                            command_rate_hz=args.rate_hz)  # fmt: skip
         title = f"figure eight {args.width:g} m x {args.height:g} m, {args.controller}"
     images: list = []

@@ -25,6 +25,7 @@ from trajkit._validation import FloatArray, positive_scalar
 from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.io.atomic import staged_files
 from trajkit.mobile.trajectory import MobileTrajectory
+from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import Trajectory, sample_times
 
 __all__ = ["Ros2Unavailable", "require_rosbags", "write_bag"]
@@ -65,12 +66,13 @@ def _nanoseconds(seconds: FloatArray) -> np.ndarray:
     return np.rint(np.asarray(seconds) * 1e9).astype(np.int64)
 
 
+@renamed_keywords(dt="sample_step")
 def write_bag(
     path: str | os.PathLike[str],
     plan: Trajectory | MobileTrajectory,
     *,
     joint_names: Sequence[str] | None = None,
-    dt: float | None = None,
+    sample_step: float | None = None,
     stream: Stream | None = None,
     rate_hz: float | None = None,
     storage: Storage = "mcap",
@@ -87,7 +89,7 @@ def write_bag(
     plan : Trajectory or MobileTrajectory
     joint_names : sequence of str, optional
         Arm plans: the joints' names (default ``joint1`` ...).
-    dt : float, optional
+    sample_step : float, optional
         Arm plans: the spacing of the ``JointTrajectory`` points (s). Default: the
         plan's breakpoints when its pieces are of degree 5 or less and its
         acceleration is continuous (a controller's quintic interpolation of
@@ -140,11 +142,13 @@ def write_bag(
             "builtin_interfaces/Time counts seconds in 32 bits)"
         )
     if isinstance(plan, Trajectory):
-        messages = _arm_messages(types, plan, joint_names, dt, stream, rate_hz, int(start_ns))
+        messages = _arm_messages(
+            types, plan, joint_names, sample_step, stream, rate_hz, int(start_ns)
+        )
     elif isinstance(plan, MobileTrajectory):
         if joint_names is not None or stream is not None:
             raise InvalidInputError("joint_names and stream are for arm plans (a Trajectory)")
-        messages = _mobile_messages(types, plan, dt, rate_hz, int(start_ns), frame_id)
+        messages = _mobile_messages(types, plan, sample_step, rate_hz, int(start_ns), frame_id)
     else:
         raise InvalidInputError(
             f"plan must be a Trajectory or a MobileTrajectory, got {type(plan).__name__}"
@@ -157,7 +161,7 @@ def _arm_messages(
     types: Any,
     plan: Trajectory,
     joint_names: Sequence[str] | None,
-    dt: float | None,
+    sample_step: float | None,
     stream: Stream | None,
     rate_hz: float | None,
     start_ns: int,
@@ -172,8 +176,10 @@ def _arm_messages(
         )
     if stream not in (None, "joint_state", "point"):
         raise InvalidInputError(f"stream must be 'joint_state' or 'point', got {stream!r}")
-    if dt is not None:
-        times = sample_times(plan.start_time, plan.end_time, positive_scalar("dt", dt, unit="s"))
+    if sample_step is not None:
+        times = sample_times(
+            plan.start_time, plan.end_time, positive_scalar("sample_step", sample_step, unit="s")
+        )
     elif plan.degree <= _QUINTIC and _continuous_acceleration(plan):
         times = plan.breakpoints
     else:
@@ -242,7 +248,7 @@ def _distinct(times: FloatArray, start: float) -> FloatArray:
 def _mobile_messages(
     types: Any,
     plan: MobileTrajectory,
-    dt: float | None,
+    sample_step: float | None,
     rate_hz: float | None,
     start_ns: int,
     frame_id: str,
@@ -256,8 +262,8 @@ def _mobile_messages(
     for t, (v, omega) in zip(_nanoseconds(times).tolist(), twists.tolist(), strict=True):
         message = twist(linear=vector(x=v, y=0.0, z=0.0), angular=vector(x=0.0, y=0.0, z=omega))
         messages.append(("/cmd_vel", message.__msgtype__, start_ns + t, message))
-    period = 0.1 if dt is None else positive_scalar("dt", dt, unit="s")
-    ticks = sample_times(0.0, plan.duration, period) if plan.duration > 0 else np.zeros(1)
+    spacing = 0.1 if sample_step is None else positive_scalar("sample_step", sample_step, unit="s")
+    ticks = sample_times(0.0, plan.duration, spacing) if plan.duration > 0 else np.zeros(1)
     poses = plan.pose(ticks)
     header = types.types["std_msgs/msg/Header"]
     names = ("PoseStamped", "Pose", "Point", "Quaternion")

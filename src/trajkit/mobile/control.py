@@ -239,7 +239,7 @@ class PurePursuit:
 
     def law(self, plan: MobileTrajectory, start: FloatArray) -> ControlLaw:  # noqa: D102
         times = np.linspace(0.0, plan.duration, _PATH_POINTS)
-        state = plan.evaluate(times)
+        state = plan.state(times)
         return _PursuitLaw(np.stack([state.x, state.y], 1), state.v, self.lookahead, self.speed)
 
 

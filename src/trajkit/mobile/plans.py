@@ -27,6 +27,7 @@ from trajkit.mobile.trajectory import (
     command_count,
 )
 from trajkit.profiles import scurve, trapezoidal
+from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import Trajectory
 
 __all__ = [
@@ -123,7 +124,7 @@ def phase_law(
     jerk: float | None,
     profile: Profile,
     blend_ratio: float | None,
-    dt: float | None,
+    period: float | None,
     units: tuple[str, str, str],
     names: tuple[str, str, str] = ("a speed limit", "an acceleration limit", "a jerk limit"),
 ) -> Trajectory:
@@ -144,20 +145,22 @@ def phase_law(
     if blend_ratio is not None:
         if profile != "trapezoid":
             raise InvalidInputError("blend_ratio describes the LSPB (trapezoid) rule only")
-        return trapezoidal(0.0, distance, speed, acceleration, blend_ratio=blend_ratio, dt=dt)
+        return trapezoidal(
+            0.0, distance, speed, acceleration, blend_ratio=blend_ratio, period=period
+        )
     if acceleration is None:
         raise InvalidInputError(
             f"the {name} needs {acceleration_name} ({acceleration_unit}) for a time-optimal "
             f"{profile}, or a blend_ratio"
         )
     if profile == "trapezoid":
-        return trapezoidal(0.0, distance, speed, acceleration, dt=dt)
+        return trapezoidal(0.0, distance, speed, acceleration, period=period)
     if profile == "scurve":
         if jerk is None:
             raise InvalidInputError(f"the {name} needs {jerk_name} for an S-curve")
         if isinstance(acceleration, tuple):
             acceleration = min(-acceleration[0], acceleration[1])
-        return scurve(0.0, distance, speed, acceleration, jerk, dt=dt)
+        return scurve(0.0, distance, speed, acceleration, jerk, period=period)
     raise InvalidInputError(f"profile must be 'trapezoid' or 'scurve', got {profile!r}")
 
 
@@ -216,6 +219,7 @@ _PHASE_TERMS = {
 }
 
 
+@renamed_keywords(dt="period")
 def plan_phase(
     label: str,
     kind: str,
@@ -226,7 +230,7 @@ def plan_phase(
     jerk: float | None = None,
     profile: Profile = "trapezoid",
     blend_ratio: float | None = None,
-    dt: float | None = None,
+    period: float | None = None,
 ) -> Trajectory:
     """The time law of a turn in place or a straight drive by ``amount`` (rad or m).
 
@@ -235,13 +239,14 @@ def plan_phase(
     """
     speed, change = phase_limits(label, kind, amount, limits, model)
     names, units = _PHASE_TERMS[kind]
-    return phase_law(label, amount, speed, change, jerk, profile, blend_ratio, dt, units, names)
+    return phase_law(label, amount, speed, change, jerk, profile, blend_ratio, period, units, names)
 
 
 # Below this a move has no length: the robot only turns (m), or does not turn (rad).
 _NO_MOTION = 1e-12
 
 
+@renamed_keywords(dt="period")
 def rotate_translate_rotate(
     goal: ArrayLike,
     start: ArrayLike = (0.0, 0.0, 0.0),
@@ -255,7 +260,7 @@ def rotate_translate_rotate(
     profile: Profile = "trapezoid",
     blend_ratio: float | None = None,
     reverse: bool = False,
-    dt: float | None = None,
+    period: float | None = None,
     model: Model | None = None,
     limits: MobileLimits | None = None,
 ) -> MobileTrajectory:
@@ -283,7 +288,7 @@ def rotate_translate_rotate(
         The coursework rule: each phase blends for ``ratio * t_f`` (0 < ratio <= 0.5).
     reverse : bool
         Drive backwards when the goal lies behind (turns less than 90° first).
-    dt : float, optional
+    period : float, optional
         Controller period (s): phase switching times become whole multiples of it.
     model : Unicycle or DiffDrive, optional
         Default: a plain unicycle.
@@ -328,7 +333,7 @@ def rotate_translate_rotate(
     wj = None
     if angular_jmax is not None:
         wj = positive_scalar("angular_jmax", angular_jmax, unit="rad/s^3")
-    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    step = None if period is None else positive_scalar("period", period, unit="s")
     with np.errstate(over="ignore", invalid="ignore"):
         dx, dy = target[0] - origin[0], target[1] - origin[1]
         distance = float(np.hypot(dx, dy))
@@ -363,7 +368,7 @@ def rotate_translate_rotate(
         if abs(amount) <= _NO_MOTION:
             continue
         law = plan_phase(label, kind, amount, limits, base, jerk=wj if kind == "turn" else j,
-                         profile=profile, blend_ratio=blend_ratio, dt=step)  # fmt: skip
+                         profile=profile, blend_ratio=blend_ratio, period=step)  # fmt: skip
         segment: Segment = Turn(pose, law) if kind == "turn" else Straight(pose, law)
         segments.append(segment)
         phase_names.append(label)

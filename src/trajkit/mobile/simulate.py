@@ -32,6 +32,7 @@ from trajkit.mobile.models import (
 )
 from trajkit.mobile.plans import MAX_TRAVEL
 from trajkit.mobile.trajectory import MobileState, MobileTrajectory, command_count
+from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import sample_times
 
 __all__ = ["HeldCommands", "SimulationLog", "log_fields", "simulate"]
@@ -148,7 +149,7 @@ def _desired_rows(state: MobileState) -> list[tuple[float, ...]]:
 
 def _one_sided(plan: MobileTrajectory, times: FloatArray, side: float) -> list[tuple[float, ...]]:
     """The desired state just after (``side`` +1) or before (-1) each of ``times``."""
-    return _desired_rows(plan.evaluate(np.nextafter(times, side * np.inf)))
+    return _desired_rows(plan.state(np.nextafter(times, side * np.inf)))
 
 
 def _noise(noise: ArrayLike | None) -> FloatArray | None:
@@ -163,11 +164,12 @@ def _noise(noise: ArrayLike | None) -> FloatArray | None:
     return sigma
 
 
+@renamed_keywords(dt="sample_step")
 def simulate(
     plan: MobileTrajectory,
     controller: Controller | None = None,
     *,
-    dt: float = 0.001,
+    sample_step: float = 0.001,
     initial_pose: ArrayLike | None = None,
     duration: float | None = None,
     command_rate_hz: float | None = None,
@@ -185,7 +187,7 @@ def simulate(
     controller : Controller, optional
         :class:`Feedforward` (the default), :class:`Kanayama`,
         :class:`FeedbackLinearization`, :class:`PurePursuit`, or your own.
-    dt : float
+    sample_step : float
         Integration and logging step (s).
     initial_pose : array_like, optional
         Where the robot starts, ``(x, y, θ)`` or ``(x, y)`` with the plan's start
@@ -222,7 +224,7 @@ def simulate(
         raise InvalidInputError(
             f"controller must have a law(plan, start) method, got {type(controller).__name__}"
         )
-    step = positive_scalar("dt", dt, unit="s")
+    step = positive_scalar("sample_step", sample_step, unit="s")
     end = plan.duration if duration is None else positive_scalar("duration", duration, unit="s")
     if end <= 0.0:
         raise InvalidInputError("the plan has no duration to simulate; pass duration=")
@@ -265,8 +267,8 @@ def log_fields(
     robot: Model,
 ) -> dict[str, FloatArray | None]:
     """The fields of a :class:`SimulationLog` that follow from the run's poses and commands."""
-    desired = plan.evaluate(times)
-    path = plan.evaluate(np.linspace(0.0, plan.duration, _PATH_POINTS))
+    desired = plan.state(times)
+    path = plan.state(np.linspace(0.0, plan.duration, _PATH_POINTS))
     wheels = None
     if isinstance(robot, DiffDrive):
         wheels = robot.wheel_speeds(commands[:, 0], commands[:, 1])
@@ -302,9 +304,9 @@ def _continuous(
     middles = (times[:-1] + times[1:]) / 2.0
     # Each step follows the plan over its own interval: where the twist jumps at a step's
     # start or end (between arcs, at the plan's end) the step sees the side within it.
-    starts = _one_sided(plan, times[:-1], 1.0) + _desired_rows(plan.evaluate(times[-1:]))
+    starts = _one_sided(plan, times[:-1], 1.0) + _desired_rows(plan.state(times[-1:]))
     ends = [starts[0], *_one_sided(plan, times[1:], -1.0)]
-    mids = _desired_rows(plan.evaluate(middles))
+    mids = _desired_rows(plan.state(middles))
     state = np.concatenate([start, law.initial_state])
     out = np.empty((times.size, 3))
     commands = np.empty((times.size, 2))
@@ -384,7 +386,7 @@ class HeldCommands:
         # Each command holds for the period after it (one at the end holds nothing).
         holding = self.times < end
         self._desired = _one_sided(plan, self.times[holding], 1.0)
-        self._desired += _desired_rows(plan.evaluate(self.times[~holding]))
+        self._desired += _desired_rows(plan.state(self.times[~holding]))
         self._law, self._model, self._limits = law, model, limits
         self._internal = np.array(law.initial_state, dtype=float)
         self._previous: tuple[float, float] | None = None

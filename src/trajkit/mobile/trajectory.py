@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit.curve import Curve, check_order
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
 from trajkit.limits import Report, Violation, compare
@@ -33,6 +34,7 @@ from trajkit.mobile.models import (
     pose_array,
     resolve_model,
 )
+from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import MAX_SAMPLES, Extrema, Trajectory, sample_times
 
 __all__ = ["MobileState", "MobileTrajectory", "Segment"]
@@ -271,8 +273,12 @@ def _segment_continuity(part: Segment) -> float:
     return 0.0  # a kind of segment this cannot see into: claim no more than the pose
 
 
-class MobileTrajectory:
+class MobileTrajectory(Curve):
     """The planned motion of a wheeled base, segment after segment, from ``t = 0``.
+
+    As a :class:`~trajkit.curve.Curve`, :meth:`evaluate` gives the pose ``(x, y, θ)``
+    and its first two time derivatives in the world frame; :meth:`state` gives the
+    pose with the twist ``(v, ω)`` and its rates.
 
     Parameters
     ----------
@@ -348,6 +354,11 @@ class MobileTrajectory:
         return float(self._breakpoints[-1])
 
     @property
+    def end_time(self) -> float:
+        """The duration (s): a mobile trajectory starts at 0."""
+        return self.duration
+
+    @property
     def start_pose(self) -> FloatArray:
         """``(x, y, θ)`` at ``t = 0``."""
         return self._segments[0].start_pose.copy()
@@ -367,7 +378,33 @@ class MobileTrajectory:
         return f"MobileTrajectory(duration={self.duration:.6g} s, segments=[{kinds}])"
 
     # ------------------------------------------------------------ evaluation
-    def evaluate(self, t: ArrayLike) -> MobileState:
+    def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
+        """The pose ``(x, y, θ)`` (m, rad) or its ``order``-th time derivative (1 or 2).
+
+        Order 1 is ``(ẋ, ẏ, ω)`` and order 2 ``(ẍ, ÿ, dω/dt)`` in the world frame.
+        Shape ``(3,)`` for a number ``t``, ``(n, 3)`` for an array.
+        """
+        order = check_order(order, 2, " for a mobile trajectory")
+        s = self.state(t)
+        if order == 0:
+            value = s.pose
+        else:
+            cos, sin = np.cos(s.theta), np.sin(s.theta)
+            if order == 1:
+                value = np.stack([s.v * cos, s.v * sin, s.omega], axis=-1)
+            else:
+                turning = s.v * s.omega  # the centripetal part of the world acceleration
+                value = np.stack(
+                    [
+                        s.acceleration * cos - turning * sin,
+                        s.acceleration * sin + turning * cos,
+                        s.angular_acceleration,
+                    ],
+                    axis=-1,
+                )
+        return value[0] if np.ndim(t) == 0 else value
+
+    def state(self, t: ArrayLike) -> MobileState:
         """The state at times ``t`` (s): a number or a 1-D array; arrays of shape (n,)."""
         times = np.atleast_1d(finite_array("t", t, unit="s"))
         if times.ndim != 1:
@@ -387,25 +424,31 @@ class MobileTrajectory:
 
     def pose(self, t: ArrayLike) -> FloatArray:
         """``(x, y, θ)`` at ``t``: shape (3,) for a number, (n, 3) for an array."""
-        pose = self.evaluate(t).pose
+        pose = self.state(t).pose
         return pose[0] if np.ndim(t) == 0 else pose
 
     def twist(self, t: ArrayLike) -> FloatArray:
         """``(v, ω)`` at ``t``: shape (2,) for a number, (n, 2) for an array."""
-        twist = self.evaluate(t).twist
+        twist = self.state(t).twist
         return twist[0] if np.ndim(t) == 0 else twist
 
     def wheel_speeds(self, t: ArrayLike) -> FloatArray:
         """Left and right wheel speeds (rad/s) at ``t``; needs a DiffDrive model."""
         if not isinstance(self._model, DiffDrive):
             raise InvalidInputError("wheel speeds need a DiffDrive model: a unicycle has no wheels")
-        state = self.evaluate(t)
+        state = self.state(t)
         speeds = self._model.wheel_speeds(state.v, state.omega)
         return speeds[0] if np.ndim(t) == 0 else speeds
 
-    def times(self, dt: float) -> FloatArray:
-        """``0, dt, 2 dt, ...`` and the end time exactly (the last step may be shorter)."""
-        return sample_times(0.0, self.duration, positive_scalar("dt", dt, unit="s"))
+    @renamed_keywords(dt="sample_step")
+    def times(self, sample_step: float) -> FloatArray:
+        """``0, h, 2 h, ...`` for ``h = sample_step`` (s), and the end time exactly.
+
+        The last step may be shorter.
+        """
+        return sample_times(
+            0.0, self.duration, positive_scalar("sample_step", sample_step, unit="s")
+        )
 
     def commands(self, rate_hz: float) -> tuple[FloatArray, FloatArray]:
         """The twist commands a base controller would be sent at ``rate_hz``.
@@ -609,13 +652,14 @@ class MobileTrajectory:
         return pairs
 
     # ----------------------------------------------------------------- files
-    def to_csv(self, path: str | os.PathLike[str], dt: float) -> Path:
-        """Write the state every ``dt`` seconds (and at the end) to a CSV file.
+    @renamed_keywords(dt="sample_step")
+    def to_csv(self, path: str | os.PathLike[str], sample_step: float) -> Path:
+        """Write the state every ``sample_step`` seconds (and at the end) to a CSV file.
 
         Columns: time, x, y, theta, v, omega, their rates, and the wheel speeds for
         a DiffDrive; the header carries the units.
         """
-        state = self.evaluate(self.times(dt))
+        state = self.state(self.times(sample_step))
         header = [
             "t [s]", "x [m]", "y [m]", "theta [rad]", "v [m/s]", "omega [rad/s]",
             "v_rate [m/s^2]", "omega_rate [rad/s^2]",

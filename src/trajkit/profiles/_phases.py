@@ -115,7 +115,7 @@ def merge_breakpoints(times: FloatArray, duration: float) -> FloatArray:
 def plan_info(
     planner: str,
     sync: object,
-    dt: float | None,
+    period: float | None,
     duration: FloatArray,
     own: FloatArray,
     limiting: FloatArray,
@@ -129,7 +129,7 @@ def plan_info(
         # A trapezoid's acceleration jumps at its switches, an S-curve's jerk.
         "continuity": 1 if planner == "trapezoidal" else 2,
         "sync": sync,
-        "dt": dt,
+        "period": period,
         "duration": float(duration),
         "minimum_durations": tuple(float(x) for x in own),
         "limiting_joint": None if joint < 0 else joint,

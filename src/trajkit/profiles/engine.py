@@ -154,11 +154,13 @@ def warm() -> float:
     q0, qf = [0.0, 0.5], [1.0, -1.0]
     for jmax in (10.0, np.inf):
         for sync in ("time", "phase", None):
-            for dt in (None, 0.01):
-                tk.scurve(q0, qf, 1.0, 2.0, jmax, v0=[0.1, 0.0], sync=sync, dt=dt).position(0.5)
-        tk.scurve(q0, qf, 1.0, 2.0, jmax, dt=0.01, grid="duration")
+            for period in (None, 0.01):
+                tk.scurve(q0, qf, 1.0, 2.0, jmax, v0=[0.1, 0.0], sync=sync, period=period).position(
+                    0.5
+                )
+        tk.scurve(q0, qf, 1.0, 2.0, jmax, period=0.01, grid="duration")
         tk.scurve(q0, qf, 1.0, 2.0, jmax, duration=5.0)
-        plans = trajkit.batch.scurve([q0, qf], [qf, q0], 1.0, 2.0, jmax, v0=0.1, dt=0.01)
+        plans = trajkit.batch.scurve([q0, qf], [qf, q0], 1.0, 2.0, jmax, v0=0.1, period=0.01)
         plans.position(0.5)
         plans[1].position(0.5)
         trajkit.batch.scurve([q0, qf], [qf, q0], 1.0, 2.0, jmax, sync="phase").position(0.5)
@@ -236,7 +238,7 @@ def solve(
     sync: NDArray[np.int64],
     enabled: NDArray[np.int64] | None = None,
     min_duration: float | FloatArray | None = None,
-    dt: float | None = None,
+    period: float | None = None,
     grid: str = "switches",
 ) -> EngineResult:
     """Plan one problem (``m`` of shape ``(11, ndof)``) or a batch (``(B, 11, ndof)``).
@@ -244,7 +246,7 @@ def solve(
     ``m`` holds the rows of :mod:`trajkit.profiles._kernels.admissible` (q0, qf,
     v0, vf, a0, af, v_min, v_max, a_min, a_max, j_max); inputs are trusted
     (validated, float64, C-contiguous; the int arrays int64, ``(ndof,)`` or
-    ``(B, ndof)``). ``min_duration`` (s) is a floor on the duration, ``dt`` (s)
+    ``(B, ndof)``). ``min_duration`` (s) is a floor on the duration, ``period`` (s)
     puts every switching time on the period grid (``grid="switches"``) or only
     the duration (``grid="duration"``).
 
@@ -265,7 +267,7 @@ def solve(
     out = np.empty((*leading, _OUT_SIZE))
     t = np.empty((*shape, _PHASES))
     u = np.empty((*shape, _PHASES))
-    step = 0.0 if dt is None else float(dt)
+    step = 0.0 if period is None else float(period)
     switches = grid == "switches"
     records = pieces = None
     if batch:
@@ -356,7 +358,7 @@ def unpack(plan: FloatArray, ndof: int) -> tuple[FloatArray, EngineResult]:
 
 
 def _failure(
-    planner: str, code: int, out: FloatArray, m: FloatArray, where: str, dt: float = 0.0
+    planner: str, code: int, out: FloatArray, m: FloatArray, where: str, period: float = 0.0
 ) -> Exception:
     """The error for a failed problem, naming the joint and its numbers."""
     joint = int(out[3])
@@ -376,9 +378,9 @@ def _failure(
         )
     if code == _GRID_FAILED:
         return InfeasibleError(
-            f"{planner}: no profile with every phase in whole multiples of dt={dt:g} s keeps "
-            f"the limits within {_MAX_EXTRA_PERIODS} periods of the continuous optimum{where}; "
-            "pass grid='duration' to put only the duration on the grid"
+            f"{planner}: no profile with every phase in whole multiples of period={period:g} s "
+            f"keeps the limits within {_MAX_EXTRA_PERIODS} periods of the continuous "
+            f"optimum{where}; pass grid='duration' to put only the duration on the grid"
         )
     if code == _VELOCITY_UNSUPPORTED:
         return InfeasibleError(

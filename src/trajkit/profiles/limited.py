@@ -324,7 +324,7 @@ def quick_trajectory(
 ) -> Trajectory | None:
     """The planned Trajectory by the shortest road, or None to take the full one.
 
-    For plainly numeric arguments and default options (no duration, no ``dt``):
+    For plainly numeric arguments and default options (no duration, no ``period``):
     one compiled call checks, plans and builds the pieces; ``info`` and the
     engine's result are unpacked only when read. None where anything is unusual
     (malformed or inadmissible input, a failed plan): the full road then names
@@ -430,13 +430,13 @@ def solve(
     *,
     duration: float | None = None,
     min_duration: float | None = None,
-    dt: float | None = None,
+    period: float | None = None,
     grid: str = "switches",
     velocity_only: bool = False,
 ) -> engine.EngineResult:
     """Plan ``p``; ``duration`` exact (refused if impossible), ``min_duration`` a floor.
 
-    With ``dt``, ``grid`` puts every switching time (``"switches"``) or only the
+    With ``period``, ``grid`` puts every switching time (``"switches"``) or only the
     duration (``"duration"``) on the period grid. ``velocity_only`` plans to the
     target velocity and acceleration with no position target (``qf`` unused).
     """
@@ -448,14 +448,14 @@ def solve(
         floor = positive_scalar("duration", duration, unit="s")
     elif min_duration is not None:
         floor = positive_scalar("min_duration", min_duration, unit="s")
-    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    step = None if period is None else positive_scalar("period", period, unit="s")
     control = np.full(p.ndof, int(velocity_only), np.int64)  # 0 position, 1 velocity
     codes = p.sync
     if duration is not None:
         # An exact duration is every joint's: none is left to move on its own.
         codes = np.where(codes == engine.SYNC_MODES[None], engine.SYNC_MODES["time"], codes)
     result = engine.solve(
-        planner, p.matrix, control=control, sync=codes, min_duration=floor, dt=step, grid=grid
+        planner, p.matrix, control=control, sync=codes, min_duration=floor, period=step, grid=grid
     )
     total = float(result.duration)
     if not math.isfinite(total):  # the check itself costs more than a plan
@@ -548,7 +548,7 @@ PHASE_FALLBACK = (
 
 
 def plan_info(
-    planner: str, p: Problem, result: engine.EngineResult, dt: float | None
+    planner: str, p: Problem, result: engine.EngineResult, period: float | None
 ) -> dict[str, Any]:
     """What a limit-driven plan reports in ``info`` (plain Python numbers)."""
     from trajkit.profiles._kernels import layout as L
@@ -561,7 +561,7 @@ def plan_info(
         "planner": planner,
         "continuity": 1 if np.any(result.second_order) else 2,
         "sync": p.sync_names[0] if len(set(p.sync_names)) == 1 else p.sync_names,
-        "dt": dt,
+        "period": period,
         "duration": float(result.duration),
         "minimum_durations": tuple(float(x) for x in result.own),
         "limiting_joint": None if limiting < 0 else limiting,
@@ -583,7 +583,7 @@ def to_trajectory(
     p: Problem,
     result: engine.EngineResult,
     *,
-    dt: float | None,
+    period: float | None,
     info: Callable[[dict[str, Any], PhasePlan], dict[str, Any]] | None = None,
 ) -> Trajectory:
     """The planned motion as a Trajectory (one piecewise cubic), the plan in ``info``.
@@ -592,7 +592,7 @@ def to_trajectory(
     called on first access, with the nine-phase plan).
     """
     breakpoints, coefficients, end = result.pieces  # type: ignore[misc]
-    build = lambda: _info(planner, p, result, dt, info)  # noqa: E731
+    build = lambda: _info(planner, p, result, period, info)  # noqa: E731
     return Trajectory._trusted(breakpoints, coefficients, LazyInfo(build), end)
 
 
@@ -611,36 +611,38 @@ def trajectory(
     sync: object,
     duration: float | None,
     min_duration: float | None,
-    dt: float | None,
+    period: float | None,
     grid: str,
     info: Callable[[dict[str, Any], PhasePlan], dict[str, Any]] | None = None,
 ) -> Trajectory:
     """One problem validated, planned and built: the limit-driven planners' front end.
 
-    With default options (no ``duration``, ``min_duration`` or ``dt``) plainly
+    With default options (no ``duration``, ``min_duration`` or ``period``) plainly
     numeric input takes the short road (:func:`quick_trajectory`); everything
     else, and whatever the short road hands back, the full one (:func:`read_problem`,
     :func:`solve`, :func:`to_trajectory`). ``info`` adapts the planner's ``info``.
     """
-    if duration is None and min_duration is None and dt is None and grid in GRIDS:
+    if duration is None and min_duration is None and period is None and grid in GRIDS:
         quick = quick_trajectory(
             planner, q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync, info=info
         )
         if quick is not None:
             return quick
     problem = read_problem(planner, q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync)
-    result = solve(planner, problem, duration=duration, min_duration=min_duration, dt=dt, grid=grid)
-    return to_trajectory(planner, problem, result, dt=dt, info=info)
+    result = solve(
+        planner, problem, duration=duration, min_duration=min_duration, period=period, grid=grid
+    )
+    return to_trajectory(planner, problem, result, period=period, info=info)
 
 
 def _info(
     planner: str,
     p: Problem,
     result: engine.EngineResult,
-    dt: float | None,
+    period: float | None,
     adapt: Callable[[dict[str, Any], PhasePlan], dict[str, Any]] | None,
 ) -> dict[str, Any]:
-    fields = plan_info(planner, p, result, dt)
+    fields = plan_info(planner, p, result, period)
     if adapt is None:
         return fields
     return adapt(fields, engine.phase_plan(result, p.q0, p.v0, p.a0))

@@ -10,11 +10,13 @@ from numpy.typing import ArrayLike
 
 from trajkit.limits import LimitSpec
 from trajkit.profiles import limited
+from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import Trajectory
 
 __all__ = ["scurve"]
 
 
+@renamed_keywords(dt="period")
 def scurve(
     q0: ArrayLike,
     qf: ArrayLike,
@@ -29,7 +31,7 @@ def scurve(
     duration: float | None = None,
     min_duration: float | None = None,
     sync: object = "time",
-    dt: float | None = None,
+    period: float | None = None,
     grid: str = "switches",
 ) -> Trajectory:
     """Time-optimal jerk-limited profile from ``(q0, v0, a0)`` to ``(qf, vf, af)``.
@@ -70,12 +72,12 @@ def scurve(
         ``"time"``, except joints that end at rest (``vf = af = 0``) move as fast
         as they can and wait. ``None`` (or ``"none"``): every joint as fast as it can; early ones
         continue at their target velocity. A sequence gives one mode per joint.
-    dt : float, optional
+    period : float, optional
         Controller period (s); see ``grid``. Every switch on the grid costs at most
         3 periods over the continuous optimum rest to rest (measured worst: 2.27),
         more for moving boundaries and brakes.
     grid : {"switches", "duration"}
-        With ``dt``: ``"switches"`` puts every switching time (each phase a whole
+        With ``period``: ``"switches"`` puts every switching time (each phase a whole
         number of periods) and the duration on the grid, re-timing the phases so
         the target is still reached exactly within every limit; ``"duration"``
         only the duration (ruckig's discrete durations: every synchronized joint
@@ -102,5 +104,5 @@ def scurve(
     """
     return limited.trajectory(
         "scurve", q0, qf, vmax, amax, jmax, v0=v0, vf=vf, a0=a0, af=af, sync=sync,
-        duration=duration, min_duration=min_duration, dt=dt, grid=grid,
+        duration=duration, min_duration=min_duration, period=period, grid=grid,
     )  # fmt: skip

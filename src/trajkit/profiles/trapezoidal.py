@@ -16,6 +16,7 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import limited
 from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
+from trajkit.renamed import renamed_keywords
 from trajkit.tolerances import ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
@@ -24,6 +25,7 @@ __all__ = ["trapezoidal"]
 _MAX_EXTRA_PERIODS = 16
 
 
+@renamed_keywords(dt="period")
 def trapezoidal(
     q0: ArrayLike,
     qf: ArrayLike,
@@ -37,7 +39,7 @@ def trapezoidal(
     v0: ArrayLike = 0.0,
     vf: ArrayLike = 0.0,
     sync: object = "time",
-    dt: float | None = None,
+    period: float | None = None,
     grid: str = "switches",
     allow_overshoot: bool = True,
 ) -> Trajectory:
@@ -85,11 +87,11 @@ def trapezoidal(
         can and wait. ``None`` (or ``"none"``): every joint as fast as it can; the ones that finish
         early hold their end state (continuing at ``vf``). A sequence gives one
         mode per joint.
-    dt : float, optional
+    period : float, optional
         Controller period (s); see ``grid`` (at rest, every switch on the grid costs
         at most 2 periods over the continuous optimum).
     grid : {"switches", "duration"}
-        With ``dt``: ``"switches"`` puts every switching time (each phase a whole
+        With ``period``: ``"switches"`` puts every switching time (each phase a whole
         number of periods) and the duration on the grid, re-timing the phases so
         the target is still reached exactly within every limit; ``"duration"``
         only the duration (ruckig's discrete durations: every synchronized joint
@@ -118,14 +120,14 @@ def trapezoidal(
     """
     allow_overshoot = flag("allow_overshoot", allow_overshoot)
     if blend_ratio is not None or blend_time is not None:
-        return _blend_rule(q0, qf, vmax, amax, duration, blend_ratio, blend_time, dt, v0, vf)
+        return _blend_rule(q0, qf, vmax, amax, duration, blend_ratio, blend_time, period, v0, vf)
     if vmax is None or amax is None:
         raise InvalidInputError(
             "trapezoidal needs vmax and amax (or blend_ratio / blend_time with a duration)"
         )
     trajectory = limited.trajectory(
         "trapezoidal", q0, qf, vmax, amax, np.inf, v0=v0, vf=vf, a0=0.0, af=0.0, sync=sync,
-        duration=duration, min_duration=min_duration, dt=dt, grid=grid, info=trapezoid_info,
+        duration=duration, min_duration=min_duration, period=period, grid=grid, info=trapezoid_info,
     )  # fmt: skip
     if not allow_overshoot:
         # The strict check reads the boundary vectors back (validated already).
@@ -206,7 +208,7 @@ def _blend_rule(
     duration: float | None,
     blend_ratio: float | None,
     blend_time: float | None,
-    dt: float | None,
+    period: float | None,
     v0: ArrayLike,
     vf: ArrayLike,
 ) -> Trajectory:
@@ -227,7 +229,7 @@ def _blend_rule(
         raise InvalidInputError(
             "blend_ratio/blend_time describe rest-to-rest moves; v0 and vf must be 0"
         )
-    step = None if dt is None else positive_scalar("dt", dt, unit="s")
+    step = None if period is None else positive_scalar("period", period, unit="s")
     distance = end - start
     magnitude = np.abs(distance)
     if vmax is None:
@@ -289,7 +291,7 @@ def _blend_rule(
             total += step
         else:
             raise InfeasibleError(
-                f"no blend in whole multiples of dt={step:g} s keeps the limits near "
+                f"no blend in whole multiples of period={step:g} s keeps the limits near "
                 f"the duration {T:.6g} s"
             )
         T = total
@@ -311,7 +313,7 @@ def _blend_rule(
         "planner": "trapezoidal",
         "continuity": 1,
         "sync": "phase",
-        "dt": step,
+        "period": step,
         "duration": float(T),
         "minimum_durations": tuple(float(x) for x in minimum),
         "limiting_joint": joint,

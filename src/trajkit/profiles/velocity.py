@@ -15,11 +15,13 @@ from trajkit._validation import FloatArray, count_dof, joint_vector
 from trajkit.errors import InfeasibleError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import limited
+from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import Trajectory
 
 __all__ = ["velocity_change", "velocity_room"]
 
 
+@renamed_keywords(dt="period")
 def velocity_change(
     v0: ArrayLike,
     vf: ArrayLike,
@@ -32,7 +34,7 @@ def velocity_change(
     duration: float | None = None,
     min_duration: float | None = None,
     sync: object = "time",
-    dt: float | None = None,
+    period: float | None = None,
     grid: str = "switches",
 ) -> Trajectory:
     """Time-optimal change from velocity ``v0`` (and ``a0``) to ``vf`` (and ``af``).
@@ -57,7 +59,7 @@ def velocity_change(
         Start positions (rad); they only place the result.
     a0, af : float or array_like
         Start and target accelerations (rad/s^2); ``af`` within the limits.
-    duration, min_duration, sync, dt, grid
+    duration, min_duration, sync, period, grid
         As for :func:`trajkit.scurve`: an exact common duration (s) or a floor on
         it, the synchronization mode(s), the controller period and what it puts
         on its grid.
@@ -100,10 +102,10 @@ def velocity_change(
         v0=start, vf=end, a0=a_start, af=a_end, sync=sync,
     )  # fmt: skip
     result = limited.solve(
-        "velocity_change", problem, duration=duration, min_duration=min_duration, dt=dt,
+        "velocity_change", problem, duration=duration, min_duration=min_duration, period=period,
         grid=grid, velocity_only=True,
     )  # fmt: skip
-    return limited.to_trajectory("velocity_change", problem, result, dt=dt)
+    return limited.to_trajectory("velocity_change", problem, result, period=period)
 
 
 def velocity_room(

@@ -242,7 +242,7 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
                               for row in task["poses"]])  # fmt: skip
             motion = through_poses(poses, task["profile"], durations=task["durations"])
             what = f"{task['profile']} moves through {len(poses)} poses"
-        mapped = to_joint_space(robot, motion, dt=task["ik_step"], branch=branch)
+        mapped = to_joint_space(robot, motion, ik_step=task["ik_step"], branch=branch)
         plan, extra = mapped.trajectory, motion
         lines.append(
             f"  {what} on {robot.name} in {motion.duration:g} s: path error "
@@ -275,7 +275,7 @@ def _mobile_plan(scenario: Scenario, model: Any, lines: list[str]) -> tuple[Any,
         plan = mobile.rotate_translate_rotate(
             goal, (*task["start"], task["start_heading"]), limits=limits, profile=task["profile"],
             jmax=scenario.limits.get("jmax"), angular_jmax=scenario.limits.get("angular_jmax"),
-            blend_ratio=task["blend_ratio"], reverse=task["reverse"], dt=scenario.period,
+            blend_ratio=task["blend_ratio"], reverse=task["reverse"], period=scenario.period,
             model=model,
         )  # fmt: skip
     else:
@@ -307,7 +307,7 @@ def _simulate(scenario: Scenario, robot: Any, plan: Any, extra: Any, lines: list
             run = sim.run(sim.MobileScene(robot), plan, control_rate_hz=rate,
                           controller=controller, initial_pose=start)  # fmt: skip
         elif task["kind"] == "figure8" or rate is not None:
-            run = mobile.simulate(plan, controller, dt=0.01, initial_pose=start,
+            run = mobile.simulate(plan, controller, sample_step=0.01, initial_pose=start,
                                   command_rate_hz=rate)  # fmt: skip
         else:
             return None

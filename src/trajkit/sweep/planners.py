@@ -461,7 +461,7 @@ def _run_mobile(robot: dict, options: dict, values: dict, step: float | None) ->
         return plan, _base_report(plan.check())  # checked against the limits it was planned for
 
     def sample(plan: Any, t: FloatArray) -> FloatArray:  # the base's position (x, y)
-        state = plan.evaluate(t)
+        state = plan.state(t)
         return np.stack([state.x, state.y], axis=1)
 
     return _one_by_one(n, 2, quantities, plan_one, step, sample)

@@ -7,7 +7,7 @@ The course's 3-DOF arm draws a straight line in 10 s with a cubic time law:
 >>> from trajkit.kinematics import Spatial3R
 >>> from trajkit.taskspace import Line, timed, to_joint_space
 >>> motion = timed(Line([0, -12, 20], [10, 12, 20]), "cubic", duration=10.0)
->>> plan = to_joint_space(Spatial3R(), motion, dt=0.01)
+>>> plan = to_joint_space(Spatial3R(), motion, ik_step=0.01)
 >>> bool(plan.path_error < 1e-9)
 True
 """

@@ -109,7 +109,7 @@ def time_optimal(
         raise InvalidInputError(
             f"path must be a taskspace Path or TaskTrajectory, got {type(path).__name__}"
         )
-    geometry = to_joint_space(robot, motion, dt=motion.duration / samples, q_start=q_start,
+    geometry = to_joint_space(robot, motion, ik_step=motion.duration / samples, q_start=q_start,
                               branch=branch, tolerance=tolerance)  # fmt: skip
     result = topp(geometry.trajectory, limits, grid=grid)
     info = dict(result.info) | {"planner": "time_optimal", "path_error": geometry.path_error}

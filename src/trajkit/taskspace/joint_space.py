@@ -27,6 +27,7 @@ from trajkit.kinematics.chain import SerialChain
 from trajkit.kinematics.robots import AnalyticChain
 from trajkit.limits import Report, check
 from trajkit.profiles.polynomial import hermite_pieces
+from trajkit.renamed import renamed_keywords
 from trajkit.rotations import rotation_error
 from trajkit.taskspace.motion import TaskState, TaskTrajectory
 from trajkit.tolerances import LIMIT_RTOL
@@ -102,15 +103,15 @@ class JointSpacePlan:
 MAX_IK_SAMPLES = 1_000_000
 
 
-def _sample_times(duration: float, dt: float) -> FloatArray:
-    ratio = duration / dt
+def _sample_times(duration: float, ik_step: float) -> FloatArray:
+    ratio = duration / ik_step
     if not ratio <= MAX_IK_SAMPLES:
         raise InvalidInputError(
-            f"dt={dt:g} s over {duration:g} s gives {ratio:.3g} samples; at most "
-            f"{MAX_IK_SAMPLES:.0e} are made: use a longer dt"
+            f"ik_step={ik_step:g} s over {duration:g} s gives {ratio:.3g} samples; at most "
+            f"{MAX_IK_SAMPLES:.0e} are made: use a longer ik_step"
         )
     count = int(np.floor(ratio + 1e-9))
-    times = np.arange(count + 1) * dt
+    times = np.arange(count + 1) * ik_step
     # A task shorter than the tolerance still keeps its start: two times at least.
     if count == 0 or duration - times[-1] > 1e-9 * max(1.0, duration):
         times = np.append(times, duration)
@@ -196,10 +197,11 @@ def _first_violation(
     return first
 
 
+@renamed_keywords(dt="ik_step")
 def to_joint_space(
     robot: SerialChain,
     task: TaskTrajectory,
-    dt: float,
+    ik_step: float,
     q_start: ArrayLike | None = None,
     *,
     branch: int | str | None = None,
@@ -213,7 +215,7 @@ def to_joint_space(
     robot : SerialChain
     task : TaskTrajectory
         With orientation, the full tool pose is followed; without, the position only.
-    dt : float
+    ik_step : float
         Sample period of the inverse kinematics (s); the last sample is at the end.
     q_start : array_like, shape (ndof,), optional
         Configuration to start from: selects the solution branch (closed-form
@@ -223,7 +225,7 @@ def to_joint_space(
     tolerance : float
         Largest allowed distance between the spline's tool position and the path
         between samples (length unit); beyond it :class:`~trajkit.InfeasibleError`
-        asks for a smaller ``dt``.
+        asks for a smaller ``ik_step``.
     singularity_threshold : float
         Samples whose Jacobian has ``σ_min/σ_max`` below this are reported.
 
@@ -243,7 +245,7 @@ def to_joint_space(
         raise InvalidInputError(f"robot must be a trajkit SerialChain, got {type(robot).__name__}")
     if not isinstance(task, TaskTrajectory):
         raise InvalidInputError(f"task must be a TaskTrajectory, got {type(task).__name__}")
-    dt = positive_scalar("dt", dt, unit="s")
+    ik_step = positive_scalar("ik_step", ik_step, unit="s")
     tolerance = positive_scalar("tolerance", tolerance)
     threshold = positive_scalar("singularity_threshold", singularity_threshold)
     start = None
@@ -263,8 +265,8 @@ def to_joint_space(
         )
     if task.duration <= 0.0:
         raise InvalidInputError("the task has zero duration")
-    t = _sample_times(task.duration, dt)
-    state = task.evaluate(t)
+    t = _sample_times(task.duration, ik_step)
+    state = task.state(t)
     if analytic:
         q = _analytic_ik(robot, state, start, branch)
     else:
@@ -281,7 +283,7 @@ def to_joint_space(
     durations = np.diff(t)
     boundary = np.stack([q, qd, qdd])  # (3, m, ndof)
     coefficients = hermite_pieces(boundary[:, :-1], boundary[:, 1:], durations[:, np.newaxis])
-    info = {"planner": "to_joint_space", "dt": dt, "continuity": 2}  # quintic Hermite: C2
+    info = {"planner": "to_joint_space", "ik_step": ik_step, "continuity": 2}  # quintic Hermite: C2
     trajectory = Trajectory(t, coefficients, info=info)
     path_error = _path_error(robot, trajectory, task, t, position_only)
     singular = np.flatnonzero(inverse_condition < threshold)
@@ -289,7 +291,7 @@ def to_joint_space(
         cause = (
             f"the path passes through or near a singularity at t={t[singular[0]]:.6g} s"
             if singular.size
-            else f"use a smaller dt than {dt:g} s"
+            else f"use a smaller ik_step than {ik_step:g} s"
         )
         raise InfeasibleError(
             f"the joint spline strays {path_error:.3g} from the task path between samples, "
@@ -335,7 +337,7 @@ def _path_error(
     fractions = np.array([0.25, 0.5, 0.75])
     between = (t[:-1, np.newaxis] + np.diff(t)[:, np.newaxis] * fractions).reshape(-1)
     tool = robot.fk(trajectory.position(between))
-    desired = task.evaluate(between)
+    desired = task.state(between)
     error = np.linalg.norm(tool[:, :3, 3] - desired.position, axis=1)
     if not position_only:
         assert desired.rotation is not None

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from trajkit._validation import choice, finite_array, finite_scalar, positive_scalar
+from trajkit.curve import Curve, check_order
 from trajkit.errors import InvalidInputError
 from trajkit.profiles import cubic, quintic, scurve, septic, trapezoidal
 from trajkit.rotations import as_rotation_matrices, axis_rotation, rotation_error, slerp_axis
@@ -194,8 +195,12 @@ def path_law(
     return scurve(0.0, 1.0, u_limits["vmax"], u_limits["amax"], u_limits["jmax"], duration=duration)
 
 
-class TaskTrajectory:
+class TaskTrajectory(Curve):
     """Tool motion over time: segments played one after another.
+
+    As a :class:`~trajkit.curve.Curve`, :meth:`evaluate` gives the tool position and
+    its first two time derivatives; :meth:`state` gives everything at once, with the
+    orientation, angular velocity and angular acceleration.
 
     Parameters
     ----------
@@ -242,6 +247,11 @@ class TaskTrajectory:
         return float(self._breakpoints[-1])
 
     @property
+    def end_time(self) -> float:
+        """The duration (s): a task trajectory starts at 0."""
+        return self.duration
+
+    @property
     def breakpoints(self) -> FloatArray:
         """Segment start times and the end time (s)."""
         return self._breakpoints.copy()
@@ -257,7 +267,18 @@ class TaskTrajectory:
             f"orientation={self.has_orientation})"
         )
 
-    def evaluate(self, t: ArrayLike) -> TaskState:
+    def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
+        """The tool position (m) or its ``order``-th time derivative (order 1 or 2).
+
+        Shape ``(3,)`` for a number ``t``, ``(n, 3)`` for an array; times outside
+        ``[0, duration]`` are clamped, as in :meth:`state`.
+        """
+        order = check_order(order, 2, " for a task trajectory")
+        state = self.state(t)
+        value = (state.position, state.velocity, state.acceleration)[order]
+        return value[0] if np.ndim(t) == 0 else value
+
+    def state(self, t: ArrayLike) -> TaskState:
         """Position, velocity, acceleration (and orientation, ω, α) at times ``t`` (s).
 
         Times outside ``[0, duration]`` are clamped, so the end pose holds.
@@ -368,7 +389,7 @@ def timed(
     --------
     >>> from trajkit.taskspace import Line, timed
     >>> motion = timed(Line([0, -12, 20], [10, 12, 20]), "cubic", duration=10.0)
-    >>> motion.evaluate(5.0).position.round(9).tolist()
+    >>> motion.state(5.0).position.round(9).tolist()
     [[5.0, 0.0, 20.0]]
     """
     if not isinstance(path, Path):

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from trajkit._validation import finite_array, finite_scalar, positive_scalar
-from trajkit.curve import Curve
+from trajkit.curve import Curve, check_order
 from trajkit.errors import InvalidInputError
 
 FloatArray = NDArray[np.float64]
@@ -91,8 +91,7 @@ class Path(Curve):
         return self.evaluate(1.0)[0]
 
     def _parameters(self, u: ArrayLike, order: int) -> FloatArray:
-        if order not in (0, 1, 2):
-            raise InvalidInputError(f"order must be 0, 1 or 2, got {order!r}")
+        check_order(order, 2)
         return np.atleast_1d(finite_array("u", u)).reshape(-1)
 
 

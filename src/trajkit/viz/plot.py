@@ -230,7 +230,7 @@ def task_space(task: TaskTrajectory, *, title: str | None = None, width: float =
         acceleration), plus angular velocity when the task has orientation.
     """
     times = np.union1d(np.linspace(0.0, task.duration, _CURVE_POINTS), task.breakpoints)
-    state = task.evaluate(times)
+    state = task.state(times)
     panels = [
         ("position", state.position, ""),
         ("velocity", state.velocity, "/s"),
@@ -260,7 +260,7 @@ def _mobile_series(data: MobileTrajectory | SimulationLog) -> tuple[np.ndarray, 
 
     if isinstance(data, MobileTrajectory):
         times = np.union1d(np.linspace(0.0, data.duration, _CURVE_POINTS), data.breakpoints)
-        state = data.evaluate(times)
+        state = data.state(times)
         desired = {"pose": state.pose, "twist": state.twist}
         return times, desired, None
     if isinstance(data, SimulationLog):

@@ -106,9 +106,15 @@ def _accept(valid, count, limits, a_up, a_down, v_max, v_min):
 
 
 @njit(cache=True, error_model="numpy")
-def _scalable(x):
-    """Whether a limit stays a usable number in new units (zero and inf do)."""
-    return x == 0.0 or math.isinf(x) or 1e-300 < abs(x) < 1e300
+def _scalable(limit, factor):
+    """Whether ``limit`` stays a usable number in units scaled by ``factor``.
+
+    Zero and infinite limits do; a finite one must not under- or overflow (a unit
+    of 1e-200 s makes 1 rad/s^2 a zero, and the laws would divide by it).
+    """
+    if limit == 0.0 or math.isinf(limit):
+        return True
+    return 1e-300 < abs(limit * factor) < 1e300
 
 
 @njit(cache=True, error_model="numpy")
@@ -122,10 +128,7 @@ def _units(duration, size, v_max, v_min, a_max, a_min):
     v = tau / lam
     a = v * tau
     if not (
-        _scalable(v_max * v)
-        and _scalable(v_min * v)
-        and _scalable(a_max * a)
-        and _scalable(a_min * a)
+        _scalable(v_max, v) and _scalable(v_min, v) and _scalable(a_max, a) and _scalable(a_min, a)
     ):
         return 1.0, 1.0
     return tau, lam
@@ -471,7 +474,9 @@ def _lone_standstill(prof, block_times):
     a free choice. The reference's closed form can lose it to rounding (a 5e6 s
     coast back at 0.01 rad/s after braking from 25 rad/s misses by 3e-8 rad).
     """
-    if prof[VF] == 0.0 or prof[VF] != prof[V] or block_times[0] != 0.0:
+    if abs(prof[VF]) < EPS or prof[VF] != prof[V] or block_times[0] != 0.0:
+        # Below EPS the target velocity counts as rest, as the candidates take it
+        # (the long way round from 1e-200 rad/s takes 4e-200 s and is not sought).
         return False
     # Standing still can be the minimum and the left end of a blocked interval at
     # once; an interval of no length blocks nothing.
