@@ -7,7 +7,7 @@ import pytest
 
 import trajkit as tk
 from trajkit import batch, mobile
-from trajkit.taskspace import Ellipse, Line, timed
+from trajkit.taskspace import Arc, Ellipse, FigureEight, Line, Polyline, timed
 
 
 def curves() -> dict[str, tk.Curve]:
@@ -56,9 +56,59 @@ def test_the_ends_of_each_kind_of_curve():
     assert (c["line"].start_time, c["line"].end_time) == (0.0, 1.0)  # the parameter u
 
 
-def test_a_path_has_no_third_derivative_and_says_so():
-    with pytest.raises(tk.InvalidInputError, match="order must be 0, 1 or 2, got 3"):
-        curves()["line"].jerk([0.5])
+@pytest.mark.parametrize("path", [Line([0, 0, 0], [1, 2, 3]), Polyline([[0, 0], [1, 0], [1, 2]])])
+def test_a_straight_path_has_no_second_or_higher_derivative(path):
+    for order in (2, 3, 6):
+        np.testing.assert_array_equal(path.evaluate([0.2, 0.7], order), np.zeros((2, 3)))
+    with pytest.raises(tk.InvalidInputError, match="order must be a whole number >= 0 for a path"):
+        path.evaluate([0.5], -1)
+
+
+@pytest.mark.parametrize(
+    "path",
+    [Arc([0, 0, 0], [2, 0, 0], 1.5), Ellipse([1, 0, 0], 1.0, 0.5, turns=2, phase=0.3),
+     FigureEight([0, 0, 1], 2.0, 1.0)],
+    ids=["arc", "ellipse", "figure eight"],
+)  # fmt: skip
+def test_a_curved_path_has_every_derivative(path):
+    # Each order is the derivative of the one below it (central differences, 1e-6).
+    u = np.linspace(0.1, 0.9, 5)
+    h = 1e-6
+    for order in range(1, 6):
+        slope = (path.evaluate(u + h, order - 1) - path.evaluate(u - h, order - 1)) / (2 * h)
+        scale = np.max(np.abs(path.evaluate(u, order)))
+        np.testing.assert_allclose(path.evaluate(u, order), slope, rtol=0, atol=1e-6 * scale)
+
+
+def test_a_task_trajectory_at_a_constant_rate_on_an_arc_has_the_closed_form_jerk():
+    # u = t / T on an arc of radius r sweeping A: the tool turns at w = A / T, and its
+    # jerk is r w^3 (sin φ, -cos φ, 0) with φ = w t: to 1e-12.
+    r, sweep, period = 2.0, 1.5, 3.0
+    task = timed(Arc([0, 0, 0], [r, 0, 0], sweep), "linear", duration=period)
+    t = np.linspace(0.0, period, 11)
+    w = sweep / period
+    phi = w * t
+    zero = np.zeros_like(t)
+    jerk = r * w**3 * np.stack([np.sin(phi), -np.cos(phi), zero], axis=1)
+    np.testing.assert_allclose(task.jerk(t), jerk, rtol=0, atol=1e-12)
+    snap = r * w**4 * np.stack([np.cos(phi), np.sin(phi), zero], axis=1)
+    np.testing.assert_allclose(task.evaluate(t, 4), snap, rtol=0, atol=1e-12)
+
+
+def test_a_task_trajectory_has_every_order_by_the_chain_rule():
+    # A septic law on an ellipse: the law's fourth derivative is not zero, so every
+    # Bell polynomial term counts.
+    task = timed(Ellipse([0, 0, 0], 1.0, 0.5), "septic", duration=2.0)
+    t = np.linspace(0.2, 1.8, 7)
+    h = 1e-6
+    for order in range(1, 6):
+        slope = (task.evaluate(t + h, order - 1) - task.evaluate(t - h, order - 1)) / (2 * h)
+        scale = np.max(np.abs(task.evaluate(t, order)))
+        np.testing.assert_allclose(task.evaluate(t, order), slope, rtol=0, atol=1e-5 * scale)
+    # On a line the jerk is the law's, along the line.
+    line = timed(Line([0, 0, 0], [3, 4, 0]), "septic", duration=2.0)
+    law = line.segments[0].law
+    np.testing.assert_allclose(line.jerk(t), law.jerk(t) * [3, 4, 0], rtol=1e-15, atol=0)
 
 
 def test_task_and_mobile_derivatives_are_their_states_in_the_world_frame():
@@ -90,8 +140,62 @@ def test_a_number_gives_one_row_and_a_second_derivative_is_the_derivative_of_the
     np.testing.assert_allclose(slope, curve.evaluate(inner, 2), rtol=1e-6, atol=1e-6)
 
 
-@pytest.mark.parametrize("name", ["task trajectory", "mobile trajectory"])
 @pytest.mark.parametrize("order", [3, -1, 1.5, True])
-def test_task_and_mobile_trajectories_refuse_orders_they_do_not_have(name, order):
-    with pytest.raises(tk.InvalidInputError, match=r"order must be 0, 1 or 2 for a .* trajectory"):
-        curves()[name].evaluate([0.5], order)
+def test_mobile_trajectories_refuse_orders_they_do_not_have(order):
+    with pytest.raises(tk.InvalidInputError, match=r"order must be 0, 1 or 2 for a mobile traj"):
+        curves()["mobile trajectory"].evaluate([0.5], order)
+
+
+@pytest.mark.parametrize("order", [-1, 1.5, True, "2"])
+def test_task_trajectories_refuse_what_is_not_an_order(order):
+    with pytest.raises(tk.InvalidInputError, match="order must be a whole number >= 0 for a task"):
+        task_motion().evaluate([0.5], order)
+
+
+@pytest.mark.parametrize("name", ["trajectory", "flat output", "task trajectory"])
+def test_every_timed_curve_samples_position_to_jerk_into_files(name, tmp_path):
+    curve = curves()[name]
+    samples = curve.sample(0.3)
+    assert samples.t[0] == curve.start_time and samples.t[-1] == curve.end_time
+    np.testing.assert_allclose(np.diff(samples.t)[:-1], 0.3, rtol=1e-12)
+    for order, field in enumerate(("q", "qd", "qdd", "qddd")):
+        np.testing.assert_array_equal(getattr(samples, field), curve.evaluate(samples.t, order))
+    expected = {"trajectory": ("rad", ("q1", "q2")), "flat output": ("m", ("x", "y")),
+                "task trajectory": ("m", ("x", "y", "z"))}[name]  # fmt: skip
+    assert (samples.unit, samples.names) == expected
+    back = tk.Samples.from_csv(samples.to_csv(tmp_path / "s.csv"))
+    np.testing.assert_array_equal(back.qddd, samples.qddd)
+    assert back.names == samples.names
+
+
+@pytest.mark.parametrize(
+    ("name", "message"),
+    [
+        ("line", r"a Line is a function of the path parameter u, not of time: time it first"),
+        ("mobile trajectory", "position to jerk, and a MobileTrajectory has derivatives up to"),
+        ("batch", r"holds 2 problems and Samples one: sample one of them, batch\[i\]"),
+    ],
+)
+def test_sampling_what_samples_cannot_hold_is_refused_by_name(name, message):
+    with pytest.raises(tk.InvalidInputError, match=message):
+        curves()[name].sample(0.1)
+
+
+class _Mixed(tk.Curve):
+    """A curve in metres and radians, known to the protocol only."""
+
+    end_time = 1.0
+    components = (("x", "m"), ("heading", "rad"))
+
+    def evaluate(self, t, order=0):
+        t = np.atleast_1d(t)
+        return np.stack([t**2 / 2, t], axis=1) if order == 0 else np.zeros((t.size, 2))
+
+
+def test_a_curve_in_several_units_needs_the_unit_named():
+    with pytest.raises(tk.InvalidInputError, match=r"in 'm', 'rad': give the position unit"):
+        _Mixed().sample(0.5)
+    samples = _Mixed().sample(0.5, unit="mixed")
+    assert samples.names == ("x", "heading") and samples.q[-1].tolist() == [0.5, 1.0]
+    with pytest.raises(tk.InvalidInputError, match="sample_step must be > 0"):
+        _Mixed().sample(0.0, unit="m")

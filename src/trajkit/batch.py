@@ -18,7 +18,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -38,6 +38,9 @@ from trajkit.profiles._phases import PhasePlan
 from trajkit.profiles.velocity import velocity_room
 from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from trajkit.samples import Samples
 
 __all__ = ["BatchTrajectory", "scurve", "trapezoidal", "velocity_change"]
 
@@ -101,6 +104,8 @@ class BatchTrajectory(Curve):
     def __repr__(self) -> str:
         return f"BatchTrajectory(problems={len(self)}, ndof={self.ndof})"
 
+    highest_order = 3
+
     def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
         """Derivative ``order`` (0-3) of every problem at time(s) ``t``.
 
@@ -108,7 +113,7 @@ class BatchTrajectory(Curve):
         """
         from trajkit.profiles._kernels.tables import evaluate_batch
 
-        order = check_order(order, 3)
+        order = check_order(order, self.highest_order)
         times = finite_array("t", t, unit="s")
         if times.ndim > 1:
             raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
@@ -134,6 +139,13 @@ class BatchTrajectory(Curve):
     def end_time(self) -> float:
         """The longest problem's duration (s): every problem holds its end state after its own."""
         return float(self.durations.max()) if self.durations.size else 0.0
+
+    def sample(self, sample_step: float, *, unit: str | None = "rad") -> Samples:
+        """Refused, naming the way: Samples hold one problem, ``batch[i].sample(...)``."""
+        raise InvalidInputError(
+            f"a BatchTrajectory holds {len(self)} problems and Samples one: "
+            "sample one of them, batch[i].sample(sample_step)"
+        )
 
     def __getitem__(self, i: int) -> Trajectory:
         """Problem ``i`` as an ordinary Trajectory (the same pieces its single planner builds)."""

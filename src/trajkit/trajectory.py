@@ -284,6 +284,11 @@ class Trajectory(Curve):
         return int(self._coefficients.shape[2])
 
     @property
+    def components(self) -> tuple[tuple[str, str], ...]:
+        """``(q1, rad), (q2, rad), ...``: joints, in radians unless told otherwise."""
+        return tuple((f"q{j + 1}", "rad") for j in range(self.ndof))
+
+    @property
     def degree(self) -> int:
         """Polynomial degree ``k`` of the storage (some pieces may be of lower degree)."""
         return int(self._coefficients.shape[0] - 1)
@@ -409,36 +414,16 @@ class Trajectory(Curve):
         return self.evaluate(t, 0)
 
     @renamed_keywords(dt="sample_step")
-    def sample(self, sample_step: float, *, unit: str = "rad") -> Samples:
-        """Sample position to jerk every ``sample_step`` seconds from start to end.
+    def sample(self, sample_step: float, *, unit: str | None = "rad") -> Samples:
+        """Sample position to jerk every ``sample_step`` seconds; see :meth:`Curve.sample`.
 
-        The times are ``start_time + i * sample_step`` (no accumulated rounding) and the end
-        time is always the last sample, exactly; when the duration is not a whole
-        multiple of ``sample_step`` the last interval is shorter (a grid point within
-        ``1e-9 sample_step`` of the end is moved onto it, so that interval may be longer by
-        that much).
-
-        Parameters
-        ----------
-        sample_step : float
-            Sampling period (s), > 0.
-        unit : str
-            Position unit written into file headers ("rad", "m", ...).
+        ``unit`` (default rad) is written into the file headers; the plan's ``info``
+        goes into the Samples' metadata.
         """
-        from trajkit.samples import Samples
+        return super().sample(sample_step, unit=unit)
 
-        times = sample_times(
-            self.start_time, self.end_time, positive_scalar("sample_step", sample_step, unit="s")
-        )
-        return Samples(
-            t=times,
-            q=self.evaluate(times, 0),
-            qd=self.evaluate(times, 1),
-            qdd=self.evaluate(times, 2),
-            qddd=self.evaluate(times, 3),
-            unit=unit,
-            metadata=dict(self.info),
-        )
+    def _metadata(self) -> dict:
+        return dict(self.info)
 
     # ---------------------------------------------------------------- algebra
     def derivative(self, order: int = 1) -> Trajectory:
@@ -692,35 +677,6 @@ class Trajectory(Curve):
         from trajkit.limits import check
 
         return check(self, limits, rtol=rtol)
-
-
-MAX_SAMPLES = 100_000_000  # more would not fit in memory several times over: refused
-
-
-def sample_count(span: float, step: float, name: str = "sample_step") -> int:
-    """``floor(span / step)`` (up to rounding), refusing grids beyond :data:`MAX_SAMPLES`."""
-    ratio = span / step
-    if not ratio <= MAX_SAMPLES:
-        raise InvalidInputError(
-            f"{name}={step:g} s over {span:g} s gives {ratio:.3g} samples; at most "
-            f"{MAX_SAMPLES:.0e} are made: use a longer {name}"
-        )
-    return int(np.floor(ratio * (1.0 + 1e-12)))
-
-
-def sample_times(start: float, end: float, step: float) -> FloatArray:
-    """``start + i * step`` up to ``end``, which is always the last time, exactly.
-
-    A grid point within ``1e-9 step`` of the end is moved onto it; otherwise the
-    end is appended and the last interval is shorter.
-    """
-    count = sample_count(end - start, step)
-    times = start + step * np.arange(count + 1)
-    if end - times[-1] <= 1e-9 * step:
-        times[-1] = end
-    else:
-        times = np.append(times, end)
-    return times
 
 
 def _quantity(order: int) -> str:

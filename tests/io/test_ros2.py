@@ -40,11 +40,11 @@ from rosbags.typesys.store import Typestore
 
 import trajkit as tk
 from support import assert_state, joint_arrays, limits_positive, ndofs
+from trajkit.curve import sample_times
 from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.io import atomic
 from trajkit.io.ros2 import Ros2Unavailable, write_bag
 from trajkit.mobile import MobileTrajectory, constant_twist, rotate_translate_rotate
-from trajkit.trajectory import sample_times
 
 TYPES = get_typestore(Stores.ROS2_HUMBLE)
 BILLION = 1_000_000_000

@@ -76,8 +76,74 @@ def test_profiles_bad_input(move, kwargs, message):
 
 
 def test_profiles_rejects_other_objects():
-    with pytest.raises(tk.InvalidInputError, match="data must be a trajkit Trajectory or Samples"):
+    with pytest.raises(tk.InvalidInputError, match=r"data must be a trajkit curve .* or Samples"):
         tk.plot.profiles(np.zeros(3))
+
+
+def test_profiles_refuses_a_batch_and_names_the_way():
+    batch = tk.batch.trapezoidal([[0.0], [1.0]], [[1.0], [2.0]], 1.0, 1.0)
+    with pytest.raises(tk.InvalidInputError, match=r"plot one of them, batch\[i\]"):
+        tk.plot.profiles(batch)
+    assert tk.plot.profiles(batch[1]).get_axes()[0].get_ylabel() == "position [rad]"
+
+
+def test_profiles_of_a_task_trajectory_in_metres_up_to_acceleration():
+    from trajkit.taskspace import Line, timed
+
+    task = timed(Line([0, 0, 0], [0.3, 0.4, 0]), "trapezoid", vmax=0.5, amax=1.0)
+    figure = tk.plot.profiles(task)
+    axes = figure.get_axes()
+    assert [ax.get_ylabel() for ax in axes] == [
+        "position [m]",
+        "velocity [m/s]",
+        "acceleration [m/s²]",
+    ]
+    assert [t.get_text() for t in axes[0].get_legend().get_texts()] == ["x", "y", "z"]
+    # Drawn from the curve itself: the speed along x peaks at 0.3 / 0.5 of 0.5 m/s.
+    x_speed = axes[1].get_lines()[0].get_ydata()
+    assert np.max(x_speed) == pytest.approx(0.5 * 0.3 / 0.5, rel=1e-12)
+    assert tk.plot.profiles(task, orders=(3,)).get_axes()[0].get_ylabel() == "jerk [m/s³]"
+
+
+def test_profiles_of_a_base_stop_at_its_highest_order():
+    from trajkit import mobile
+
+    plan = mobile.rotate_translate_rotate((1.0, 0.0, 0.0), vmax=0.5, amax=1.0, wmax=1.0)
+    with pytest.raises(tk.InvalidInputError, match="order must be 0, 1 or 2 for a MobileTraj"):
+        tk.plot.profiles(plan, orders=(0, 3))
+
+
+def test_profiles_of_a_base_labels_each_unit_and_turns_only_angles_to_degrees():
+    from trajkit import mobile
+
+    plan = mobile.rotate_translate_rotate(
+        (1.0, 1.0, np.pi / 2), vmax=0.5, amax=1.0, wmax=1.0, alpha_max=2.0
+    )
+    axes = tk.plot.profiles(plan, degrees=True).get_axes()
+    assert axes[0].get_ylabel() == "position [m, deg]"
+    assert axes[1].get_ylabel() == "velocity [m/s, deg/s]"
+    heading = axes[0].get_lines()[2]
+    assert heading.get_label() == "θ"
+    assert heading.get_ydata()[-1] == pytest.approx(90.0, abs=1e-9)
+    assert axes[0].get_lines()[0].get_ydata()[-1] == pytest.approx(1.0, abs=1e-9)
+
+
+def test_profiles_of_a_geometric_path_is_drawn_against_its_parameter():
+    from trajkit.taskspace import Arc
+
+    arc = Arc(center=[0, 0, 0], start=[2, 0, 0], angle=np.pi / 2)
+    axes = tk.plot.profiles(arc, orders=(0, 1)).get_axes()
+    assert axes[-1].get_xlabel() == "path parameter u"
+    assert [ax.get_ylabel() for ax in axes] == ["position [m]", "velocity [m]"]
+    assert axes[0].get_lines()[0].get_xdata()[-1] == 1.0
+
+
+def test_profiles_of_a_flat_output_has_any_order():
+    from trajkit.mobile.flatness import FigureEight
+
+    eight = FigureEight(width=2.0, height=1.0, period=10.0)
+    axes = tk.plot.profiles(eight, orders=(0, 3)).get_axes()
+    assert [ax.get_ylabel() for ax in axes] == ["position [m]", "jerk [m/s³]"]
 
 
 def test_save_bad_suffix(move, tmp_path):

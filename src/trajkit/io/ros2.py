@@ -22,11 +22,12 @@ from typing import Any, Literal
 import numpy as np
 
 from trajkit._validation import FloatArray, positive_scalar
+from trajkit.curve import sample_times
 from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.io.atomic import staged_files
 from trajkit.mobile.trajectory import MobileTrajectory
 from trajkit.renamed import renamed_keywords
-from trajkit.trajectory import Trajectory, sample_times
+from trajkit.trajectory import Trajectory
 
 __all__ = ["Ros2Unavailable", "require_rosbags", "write_bag"]
 

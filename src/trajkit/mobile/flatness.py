@@ -79,6 +79,8 @@ class FlatOutput(Curve):
         """The duration (s): flat outputs start at 0."""
         return self.duration
 
+    components = (("x", "m"), ("y", "m"))
+
     @abstractmethod
     def evaluate(self, t: FloatArray, order: int = 0) -> FloatArray:
         """The ``order``-th time derivative (any order >= 0) at times ``t`` (n,): (n, 2)."""

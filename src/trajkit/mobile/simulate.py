@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, finite_array, positive_scalar
+from trajkit.curve import sample_times
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
 from trajkit.limits import Bounds
@@ -33,7 +34,6 @@ from trajkit.mobile.models import (
 from trajkit.mobile.plans import MAX_TRAVEL
 from trajkit.mobile.trajectory import MobileState, MobileTrajectory, command_count
 from trajkit.renamed import renamed_keywords
-from trajkit.trajectory import sample_times
 
 __all__ = ["HeldCommands", "SimulationLog", "log_fields", "simulate"]
 

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, finite_array, positive_scalar
-from trajkit.curve import Curve, check_order
+from trajkit.curve import MAX_SAMPLES, Curve, check_order, sample_times
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
 from trajkit.limits import Report, Violation, compare
@@ -35,7 +35,7 @@ from trajkit.mobile.models import (
     resolve_model,
 )
 from trajkit.renamed import renamed_keywords
-from trajkit.trajectory import MAX_SAMPLES, Extrema, Trajectory, sample_times
+from trajkit.trajectory import Extrema, Trajectory
 
 __all__ = ["MobileState", "MobileTrajectory", "Segment"]
 
@@ -378,13 +378,16 @@ class MobileTrajectory(Curve):
         return f"MobileTrajectory(duration={self.duration:.6g} s, segments=[{kinds}])"
 
     # ------------------------------------------------------------ evaluation
+    highest_order = 2
+    components = (("x", "m"), ("y", "m"), ("θ", "rad"))
+
     def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
         """The pose ``(x, y, θ)`` (m, rad) or its ``order``-th time derivative (1 or 2).
 
         Order 1 is ``(ẋ, ẏ, ω)`` and order 2 ``(ẍ, ÿ, dω/dt)`` in the world frame.
         Shape ``(3,)`` for a number ``t``, ``(n, 3)`` for an array.
         """
-        order = check_order(order, 2, " for a mobile trajectory")
+        order = check_order(order, self.highest_order, " for a mobile trajectory")
         s = self.state(t)
         if order == 0:
             value = s.pose

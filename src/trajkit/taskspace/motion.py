@@ -9,7 +9,8 @@ acceleration all follow in closed form from the chain rule.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -267,22 +268,23 @@ class TaskTrajectory(Curve):
             f"orientation={self.has_orientation})"
         )
 
+    components = (("x", "m"), ("y", "m"), ("z", "m"))
+
     def evaluate(self, t: ArrayLike, order: int = 0) -> FloatArray:
-        """The tool position (m) or its ``order``-th time derivative (order 1 or 2).
+        """The tool position (m) or its ``order``-th time derivative (any order).
 
         Shape ``(3,)`` for a number ``t``, ``(n, 3)`` for an array; times outside
         ``[0, duration]`` are clamped, as in :meth:`state`.
         """
-        order = check_order(order, 2, " for a task trajectory")
-        state = self.state(t)
-        value = (state.position, state.velocity, state.acceleration)[order]
+        order = check_order(order, where=" for a task trajectory")
+        times, clamped, index = self._locate(t)
+        value = np.empty((times.size, 3))
+        for segment, mask, local in self._pieces(clamped, index):
+            value[mask] = _tool_derivatives(segment, local, order)[order]
         return value[0] if np.ndim(t) == 0 else value
 
-    def state(self, t: ArrayLike) -> TaskState:
-        """Position, velocity, acceleration (and orientation, ω, α) at times ``t`` (s).
-
-        Times outside ``[0, duration]`` are clamped, so the end pose holds.
-        """
+    def _locate(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """The times, clamped to ``[0, duration]``, and the segment of each."""
         times = np.atleast_1d(finite_array("t", t)).reshape(-1)
         clamped = np.clip(times, 0.0, self.duration)
         index = np.clip(
@@ -290,27 +292,37 @@ class TaskTrajectory(Curve):
             0,
             len(self._segments) - 1,
         )
+        return times, clamped, index
+
+    def _pieces(
+        self, clamped: FloatArray, index: np.ndarray
+    ) -> Iterator[tuple[TaskSegment, np.ndarray, FloatArray]]:
+        """``(segment, mask, local times)`` of each segment that holds a time."""
+        for k, segment in enumerate(self._segments):
+            mask = index == k
+            if mask.any():
+                yield segment, mask, clamped[mask] - self._breakpoints[k]
+
+    def state(self, t: ArrayLike) -> TaskState:
+        """Position, velocity, acceleration (and orientation, ω, α) at times ``t`` (s).
+
+        Times outside ``[0, duration]`` are clamped, so the end pose holds.
+        """
+        times, clamped, index = self._locate(t)
         m = times.size
         position, velocity, acceleration = (np.empty((m, 3)) for _ in range(3))
         oriented = self.has_orientation
         if oriented:
             rotation = np.empty((m, 3, 3))
             omega, alpha = np.empty((m, 3)), np.empty((m, 3))
-        for k, segment in enumerate(self._segments):
-            mask = index == k
-            if not mask.any():
-                continue
-            local = clamped[mask] - self._breakpoints[k]
-            u = segment.law.position(local)[:, 0]
-            ud = segment.law.velocity(local)[:, 0]
-            udd = segment.law.acceleration(local)[:, 0]
-            d1 = segment.path.evaluate(u, 1)
-            position[mask] = segment.path.evaluate(u, 0)
-            velocity[mask] = d1 * ud[:, np.newaxis]
-            acceleration[mask] = (
-                segment.path.evaluate(u, 2) * (ud**2)[:, np.newaxis] + d1 * udd[:, np.newaxis]
+        for segment, mask, local in self._pieces(clamped, index):
+            position[mask], velocity[mask], acceleration[mask] = _tool_derivatives(
+                segment, local, 2
             )
             if oriented:
+                u = segment.law.position(local)[:, 0]
+                ud = segment.law.velocity(local)[:, 0]
+                udd = segment.law.acceleration(local)[:, 0]
                 assert segment.rotation is not None and segment.axis is not None
                 turn = axis_rotation(segment.axis, segment.angle * u)
                 rotation[mask] = turn @ segment.rotation
@@ -319,6 +331,33 @@ class TaskTrajectory(Curve):
         if not oriented:
             return TaskState(times, position, velocity, acceleration)
         return TaskState(times, position, velocity, acceleration, rotation, omega, alpha)
+
+
+def _tool_derivatives(segment: TaskSegment, local: FloatArray, highest: int) -> list[FloatArray]:
+    """The tool position and its time derivatives up to ``highest`` along a segment.
+
+    ``p(u(t))`` differentiated by Faà di Bruno's formula: the ``n``-th derivative is
+    ``sum_k p^(k)(u) B_{n,k}(u^(1), u^(2), ...)`` with the partial Bell polynomials
+    ``B_{n,k}``; for ``n = 2`` that is ``p^(2) (u^(1))^2 + p^(1) u^(2)``.
+    """
+    law = [segment.law.evaluate(local, n)[:, 0] for n in range(highest + 1)]
+    path = [segment.path.evaluate(law[0], k) for k in range(highest + 1)]
+    # bell[n][k] = B_{n,k}(law[1], law[2], ...), by B_{n,k} = sum_i C(n-1, i-1)
+    # law[i] B_{n-i,k-1}, with B_{0,0} = 1 and B_{n,0} = B_{0,k} = 0 otherwise.
+    zero, one = np.zeros_like(law[0]), np.ones_like(law[0])
+    bell = [[one] + [zero] * highest]
+    for n in range(1, highest + 1):
+        row = [zero] * (highest + 1)
+        for k in range(1, n + 1):
+            terms = (
+                math.comb(n - 1, i - 1) * law[i] * bell[n - i][k - 1] for i in range(1, n - k + 2)
+            )
+            row[k] = sum(terms, zero)
+        bell.append(row)
+    derivatives = [path[0]]
+    for n in range(1, highest + 1):
+        derivatives.append(sum(path[k] * bell[n][k][:, np.newaxis] for k in range(n, 0, -1)))
+    return derivatives
 
 
 def _checked_segment(index: int, segment: TaskSegment) -> TaskSegment:

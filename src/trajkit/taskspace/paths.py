@@ -1,6 +1,6 @@
 """Geometric paths in the workspace, parameterized by ``u`` in [0, 1].
 
-Each path gives its point and first two derivatives with respect to ``u``, plus
+Each path gives its point and its derivatives of any order with respect to ``u``, plus
 upper bounds on ``|dp/du|`` and ``|d²p/du²|`` over the whole path: the bounds
 turn Cartesian speed and acceleration limits into limits on ``u`` that are
 guaranteed, not sampled.
@@ -58,8 +58,11 @@ class Path(Curve):
     """A curve ``p(u)``, ``u`` in [0, 1], in the workspace (length unit of the robot).
 
     As a :class:`~trajkit.curve.Curve` its "time" is the parameter ``u``: it starts at 0
-    and ends at 1, and derivatives are taken with respect to ``u`` (orders 0 to 2).
+    and ends at 1, and derivatives are taken with respect to ``u`` (any order).
     """
+
+    parameter = ("path parameter u", "")
+    components = (("x", "m"), ("y", "m"), ("z", "m"))
 
     @property
     def end_time(self) -> float:
@@ -68,7 +71,7 @@ class Path(Curve):
 
     @abstractmethod
     def evaluate(self, u: ArrayLike, order: int = 0) -> FloatArray:
-        """Point (order 0) or derivative ``d^k p / du^k`` (order 1, 2) at each ``u``: (m, 3)."""
+        """Point (order 0) or derivative ``d^k p / du^k`` (order ``k``) at each ``u``: (m, 3)."""
 
     @property
     @abstractmethod
@@ -91,7 +94,7 @@ class Path(Curve):
         return self.evaluate(1.0)[0]
 
     def _parameters(self, u: ArrayLike, order: int) -> FloatArray:
-        check_order(order, 2)
+        check_order(order, where=" for a path")
         return np.atleast_1d(finite_array("u", u)).reshape(-1)
 
 
@@ -108,7 +111,7 @@ class Line(Path):
             return self._start + u[:, np.newaxis] * self._delta
         if order == 1:
             return np.broadcast_to(self._delta, (u.size, 3)).copy()
-        return np.zeros((u.size, 3))
+        return np.zeros((u.size, 3))  # straight: no second or higher derivative
 
     @property
     def speed_bound(self) -> float:  # noqa: D102
@@ -117,6 +120,11 @@ class Line(Path):
     @property
     def curvature_bound(self) -> float:  # noqa: D102
         return 0.0
+
+
+def _sine_derivative(phi: FloatArray, order: int) -> FloatArray:
+    """``d^order/dφ^order sin(φ)``: sin, cos, -sin, -cos in turn (exact zeros kept)."""
+    return (np.sin, np.cos, lambda x: -np.sin(x), lambda x: -np.cos(x))[order % 4](phi)
 
 
 class _Conic(Path):
@@ -145,11 +153,10 @@ class _Conic(Path):
         w = self._span
         k = self._k
         if self._sine_first:  # x = a sin(φ), y = b sin(kφ)
-            first = [np.sin(phi), w * np.cos(phi), -(w**2) * np.sin(phi)][order]
+            first = w**order * _sine_derivative(phi, order)
         else:
-            first = [np.cos(phi), -w * np.sin(phi), -(w**2) * np.cos(phi)][order]
-        kp = k * phi
-        second = [np.sin(kp), k * w * np.cos(kp), -((k * w) ** 2) * np.sin(kp)][order]
+            first = w**order * _sine_derivative(phi, order + 1)  # cos is sin's derivative
+        second = (k * w) ** order * _sine_derivative(k * phi, order)
         out = (self._a * first)[:, np.newaxis] * self._e1 + (self._b * second)[
             :, np.newaxis
         ] * self._e2
@@ -312,7 +319,7 @@ class Polyline(Path):
             )
         if order == 1:
             return delta / width
-        return np.zeros((u.size, 3))
+        return np.zeros((u.size, 3))  # straight pieces: no higher derivative
 
     @property
     def speed_bound(self) -> float:  # noqa: D102

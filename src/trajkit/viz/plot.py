@@ -17,6 +17,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from trajkit._validation import positive_scalar
+from trajkit.batch import BatchTrajectory
+from trajkit.curve import Curve, check_order
 from trajkit.errors import InvalidInputError
 from trajkit.io.atomic import atomic_write
 from trajkit.limits import Limits
@@ -38,18 +40,49 @@ _PER_SECOND = ("", "/s", "/s²", "/s³")
 _CURVE_POINTS = 1500  # enough for smooth curves on any screen
 
 
-def _dense_samples(trajectory: Trajectory, unit: str) -> Samples:
-    """Samples for drawing: evenly spaced plus every breakpoint, so corners are drawn."""
-    times = np.union1d(
-        np.linspace(trajectory.start_time, trajectory.end_time, _CURVE_POINTS),
-        trajectory.breakpoints,
+def _dense_times(curve: Curve) -> np.ndarray:
+    """Evenly spaced times plus every breakpoint, so corners are drawn."""
+    return np.union1d(
+        np.linspace(curve.start_time, curve.end_time, _CURVE_POINTS), curve.breakpoints
     )
-    values = [trajectory.evaluate(times, order) for order in range(4)]
-    return Samples(times, *values, unit=unit)
+
+
+def _series(
+    data: Curve | Samples, orders: list[int], unit: str | None
+) -> tuple[np.ndarray, dict[int, np.ndarray], list[str], list[str], tuple[str, str]]:
+    """Times, the values of each order, column names and units, and the parameter."""
+    if isinstance(data, Samples):
+        present = {order: getattr(data, _FIELDS[order]) for order in orders}
+        units = [unit or data.unit] * data.ndof
+        return data.t, present, list(data.names), units, ("time", "s")
+    if isinstance(data, BatchTrajectory):
+        raise InvalidInputError("a BatchTrajectory holds many problems: plot one of them, batch[i]")
+    if not isinstance(data, Curve):
+        raise InvalidInputError(
+            f"data must be a trajkit curve (Trajectory, TaskTrajectory, "
+            f"MobileTrajectory, a path...) or Samples, got {type(data).__name__}"
+        )
+    where = f" for a {type(data).__name__}"
+    for order in orders:
+        check_order(order, data.highest_order, where)
+    times = _dense_times(data)
+    present = {order: np.asarray(data.evaluate(times, order)) for order in orders}
+    names = [name for name, _ in data.components]
+    units = [unit or column_unit for _, column_unit in data.components]
+    return times, present, names, units, data.parameter
+
+
+def _axis_label(quantity: str, units: list[str], parameter_unit: str, order: int) -> str:
+    # Per unit of the parameter: nothing to add for a dimensionless one (a path's u).
+    per = ("", f"/{parameter_unit}", f"/{parameter_unit}²", f"/{parameter_unit}³")[order]
+    per = per if parameter_unit else ""
+    shown = list(dict.fromkeys(f"{u}{per}" if u else per.lstrip("/") for u in units))
+    shown = [u for u in shown if u]
+    return f"{quantity} [{', '.join(shown)}]" if shown else quantity
 
 
 def profiles(
-    data: Trajectory | Samples,
+    data: Curve | Samples,
     limits: Limits | None = None,
     *,
     orders: Sequence[int] = (0, 1, 2),
@@ -64,18 +97,22 @@ def profiles(
 
     Parameters
     ----------
-    data : Trajectory or Samples
-        A Trajectory is drawn from its exact polynomials; Samples as given.
+    data : Curve or Samples
+        Any trajkit curve (a :class:`~trajkit.Trajectory`, a task or mobile
+        trajectory, a flat output, a geometric path) is drawn from its exact
+        ``evaluate``, breakpoints included; Samples as given.
     limits : Limits, optional
         Bounds drawn as dashed lines in the joint's colour (black when shared).
     orders : sequence of int
-        Which panels: 0 position, 1 velocity, 2 acceleration, 3 jerk.
+        Which panels: 0 position, 1 velocity, 2 acceleration, 3 jerk (those the
+        curve has: a task trajectory stops at 2).
     degrees : bool
-        Show angles in degrees (the data stay in radians).
+        Show angles in degrees (the data stay in radians): the columns in rad.
     unit : str, optional
-        Position unit for the labels; default the Samples' unit, or "rad".
+        Position unit of every column for the labels; default the curve's own
+        (``Trajectory``: rad; task space: m; a base: m and rad) or the Samples'.
     names : sequence of str, optional
-        Joint labels for the legend.
+        Labels for the legend; default the curve's components (q1.., x y z, x y θ).
     title : str, optional
         Figure title.
     width, panel_height : float
@@ -85,46 +122,43 @@ def profiles(
     -------
     matplotlib.figure.Figure
     """
-    if isinstance(data, Trajectory):
-        samples = _dense_samples(data, unit or "rad")
-    elif isinstance(data, Samples):
-        samples = data
-    else:
-        raise InvalidInputError(
-            f"data must be a trajkit Trajectory or Samples, got {type(data).__name__}"
-        )
     panels = list(orders)
     if not panels or any(o not in (0, 1, 2, 3) for o in panels) or len(set(panels)) != len(panels):
         raise InvalidInputError(f"orders must be distinct values among 0, 1, 2, 3, got {orders}")
     if limits is not None and not isinstance(limits, Limits):
         raise InvalidInputError(f"limits must be a trajkit.Limits, got {type(limits).__name__}")
-    labels = list(names) if names is not None else list(samples.names)
-    if len(labels) != samples.ndof:
-        raise InvalidInputError(f"names gives {len(labels)} labels for {samples.ndof} joints")
-    base = unit or samples.unit
-    scale = 1.0
+    times, values, default_names, units, (parameter, parameter_unit) = _series(data, panels, unit)
+    ndof = len(units)
+    labels = list(names) if names is not None else default_names
+    if len(labels) != ndof:
+        raise InvalidInputError(f"names gives {len(labels)} labels for {ndof} joints")
+    scale = np.ones(ndof)
     if degrees:
-        if base != "rad":
-            raise InvalidInputError(f"degrees=True needs angles in rad, but the unit is {base!r}")
-        scale, base = 180.0 / np.pi, "deg"
+        angles = np.array([u == "rad" for u in units])
+        if not angles.any():
+            raise InvalidInputError(
+                f"degrees=True needs angles in rad, but the unit is {units[0]!r}"
+            )
+        scale[angles] = 180.0 / np.pi
+        units = ["deg" if angle else u for u, angle in zip(units, angles, strict=True)]
     positive_scalar("width", width)
     positive_scalar("panel_height", panel_height)
 
     figure = Figure(figsize=(width, panel_height * len(panels)), layout="constrained")
     axes = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
-    colors = [f"C{j % 10}" for j in range(samples.ndof)]
+    colors = [f"C{j % 10}" for j in range(ndof)]
     for ax, order in zip(axes, panels, strict=True):
-        values = getattr(samples, _FIELDS[order]) * scale
-        for j in range(samples.ndof):
-            ax.plot(samples.t, values[:, j], color=colors[j], label=labels[j], linewidth=1.6)
+        shown = values[order] * scale
+        for j in range(ndof):
+            ax.plot(times, shown[:, j], color=colors[j], label=labels[j], linewidth=1.6)
         bounds = None if limits is None else getattr(limits, _QUANTITIES[order])
         if bounds is not None:
-            lower, upper = bounds.for_ndof(_QUANTITIES[order], samples.ndof)
+            lower, upper = bounds.for_ndof(_QUANTITIES[order], ndof)
             _draw_bounds(ax, lower * scale, upper * scale, colors)
-        ax.set_ylabel(f"{_QUANTITIES[order]} [{base}{_PER_SECOND[order]}]")
+        ax.set_ylabel(_axis_label(_QUANTITIES[order], units, parameter_unit, order))
         ax.grid(True, alpha=0.3)
-    axes[-1].set_xlabel("time [s]")
-    axes[0].legend(loc="best", fontsize="small", ncols=min(samples.ndof, 6))
+    axes[-1].set_xlabel(f"{parameter} [{parameter_unit}]" if parameter_unit else parameter)
+    axes[0].legend(loc="best", fontsize="small", ncols=min(ndof, 6))
     if title:
         figure.suptitle(title)
     return figure
