@@ -7,6 +7,7 @@ import pytest
 
 import trajkit as tk
 from trajkit import batch, mobile
+from trajkit.curve import Segmented
 from trajkit.taskspace import Arc, Ellipse, FigureEight, Line, Polyline, timed
 
 
@@ -199,3 +200,16 @@ def test_a_curve_in_several_units_needs_the_unit_named():
     assert samples.names == ("x", "heading") and samples.q[-1].tolist() == [0.5, 1.0]
     with pytest.raises(tk.InvalidInputError, match="sample_step must be > 0"):
         _Mixed().sample(0.0, unit="m")
+
+
+@pytest.mark.parametrize("name", ["task trajectory", "mobile trajectory"])
+def test_segmented_curves_hold_their_end_and_keep_their_breakpoints_read_only(name):
+    curve = curves()[name]
+    assert isinstance(curve, Segmented)
+    np.testing.assert_array_equal(curve.breakpoints[[0, -1]], [0.0, curve.duration])
+    with pytest.raises(ValueError, match="read-only"):
+        curve.breakpoints[0] = 1.0
+    # Past either end the end state holds (values; the world velocity of a base stops).
+    np.testing.assert_array_equal(
+        curve.evaluate([-1.0, 1e9]), curve.evaluate([0.0, curve.end_time])
+    )

@@ -12,7 +12,8 @@ wheeled bases and geometric paths (parametrized by ``u`` in [0, 1]) are curves.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from typing import TYPE_CHECKING, ClassVar
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -23,7 +24,7 @@ from trajkit.errors import InvalidInputError
 if TYPE_CHECKING:
     from trajkit.samples import Samples
 
-__all__ = ["MAX_SAMPLES", "Curve", "check_order", "sample_count", "sample_times"]
+__all__ = ["MAX_SAMPLES", "Curve", "Segmented", "check_order", "sample_count", "sample_times"]
 
 
 class Curve(ABC):
@@ -138,6 +139,53 @@ class Curve(ABC):
     def jerk(self, t: ArrayLike) -> FloatArray:
         """The third derivative at ``t``."""
         return self.evaluate(t, 3)
+
+
+class Segmented(Curve):
+    """A curve made of segments played one after another from ``t = 0``.
+
+    Subclasses store their segments with :meth:`_store`; each segment has a
+    ``duration`` (s). The segment boundaries are the breakpoints.
+    """
+
+    __slots__ = ()
+
+    def _store(self, segments: tuple, durations: ArrayLike) -> None:
+        self._segments = segments
+        self._durations = np.array(durations, dtype=float)
+        self._breakpoints = np.concatenate([[0.0], np.cumsum(self._durations)])
+        self._breakpoints.setflags(write=False)
+
+    @property
+    def segments(self) -> tuple:
+        """The segments, in order."""
+        return self._segments
+
+    @property
+    def breakpoints(self) -> FloatArray:
+        """Segment boundaries (s), shape ``(len(segments) + 1,)``, from 0 (read-only)."""
+        return self._breakpoints
+
+    @property
+    def end_time(self) -> float:
+        """The total duration (s): segmented curves start at 0."""
+        return float(self._breakpoints[-1])
+
+    def _pieces(self, times: FloatArray) -> Iterator[tuple[Any, np.ndarray, FloatArray]]:
+        """``(segment, mask, local times)`` of each segment that holds one of ``times``.
+
+        Times are clamped to ``[0, end_time]`` (the end state holds) and each goes to
+        the last segment starting at or before it; local times run from 0 to the
+        segment's duration. A loop over segments, not samples.
+        """
+        bp = self._breakpoints
+        clamped = np.clip(times, 0.0, bp[-1])
+        index = np.clip(np.searchsorted(bp, clamped, side="right") - 1, 0, len(self._segments) - 1)
+        for k, segment in enumerate(self._segments):
+            mask = index == k
+            if mask.any():
+                # Its own duration, not bp[k + 1] - bp[k], which rounding can make longer.
+                yield segment, mask, np.minimum(clamped[mask] - bp[k], self._durations[k])
 
 
 def check_order(order: object, highest: int | None = None, where: str = "") -> int:

@@ -188,12 +188,12 @@ def test_arm_draws_each_instant_and_the_tool_path(view):
 
 def test_task_space_panels():
     _, motion, _ = arm_move()
-    figure = tk.plot.task_space(motion)
+    figure = tk.plot.task_space(motion, unit="cm")  # seed 003's arm is in cm
     axes = figure.get_axes()
-    assert [ax.get_ylabel().split(" ")[0] for ax in axes] == [
-        "position",
-        "velocity",
-        "acceleration",
+    assert [ax.get_ylabel() for ax in axes] == [
+        "position [cm]",
+        "velocity [cm/s]",
+        "acceleration [cm/s²]",
     ]
     # Velocity panel: x, y, z and the magnitude, whose peak is the cubic's 1.5 L / T.
     magnitude = axes[1].get_lines()[-1].get_ydata()

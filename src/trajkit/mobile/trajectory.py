@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from trajkit._validation import FloatArray, finite_array, positive_scalar
-from trajkit.curve import MAX_SAMPLES, Curve, check_order, sample_times
+from trajkit.curve import MAX_SAMPLES, Segmented, check_order, sample_times
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
 from trajkit.limits import Report, Violation, compare
@@ -273,7 +273,7 @@ def _segment_continuity(part: Segment) -> float:
     return 0.0  # a kind of segment this cannot see into: claim no more than the pose
 
 
-class MobileTrajectory(Curve):
+class MobileTrajectory(Segmented):
     """The planned motion of a wheeled base, segment after segment, from ``t = 0``.
 
     As a :class:`~trajkit.curve.Curve`, :meth:`evaluate` gives the pose ``(x, y, θ)``
@@ -320,19 +320,12 @@ class MobileTrajectory(Curve):
                     f"segment {i} starts at {parts[i].start_pose.round(9).tolist()} but segment "
                     f"{i - 1} ends at {parts[i - 1].end_pose.round(9).tolist()}"
                 )
-        self._segments = parts
+        self._store(parts, [s.duration for s in parts])
         self._model = model
         self._limits = check_limits(model.limits if limits is None else limits)
-        self._breakpoints = np.concatenate([[0.0], np.cumsum([s.duration for s in parts])])
-        self._breakpoints.setflags(write=False)
         self._info: Mapping[str, Any] = MappingProxyType(dict(info or {}))
 
     # ----------------------------------------------------------------- shape
-    @property
-    def segments(self) -> tuple[Segment, ...]:
-        """The consecutive motions."""
-        return self._segments
-
     @property
     def model(self) -> Model:
         """The base this trajectory drives."""
@@ -342,21 +335,6 @@ class MobileTrajectory(Curve):
     def limits(self) -> MobileLimits:
         """The limits the plan was made for."""
         return self._limits
-
-    @property
-    def breakpoints(self) -> FloatArray:
-        """Segment boundaries (s), shape ``(len(segments) + 1,)``, from 0."""
-        return self._breakpoints
-
-    @property
-    def duration(self) -> float:
-        """Total time (s)."""
-        return float(self._breakpoints[-1])
-
-    @property
-    def end_time(self) -> float:
-        """The duration (s): a mobile trajectory starts at 0."""
-        return self.duration
 
     @property
     def start_pose(self) -> FloatArray:
@@ -412,16 +390,10 @@ class MobileTrajectory(Curve):
         times = np.atleast_1d(finite_array("t", t, unit="s"))
         if times.ndim != 1:
             raise InvalidInputError(f"t must be a number or a 1-D array, got shape {times.shape}")
-        bp = self._breakpoints
-        clamped = np.clip(times, 0.0, bp[-1])
-        piece = np.clip(np.searchsorted(bp, clamped, side="right") - 1, 0, len(self._segments) - 1)
         columns = np.empty((7, times.size))
-        for i, segment in enumerate(self._segments):  # a loop over segments, not samples
-            mask = piece == i
-            if mask.any():
-                tau = np.minimum(clamped[mask] - bp[i], segment.duration)
-                columns[:, mask] = np.stack(segment.local_state(tau))
-        outside = (times < 0.0) | (times > bp[-1])
+        for segment, mask, local in self._pieces(times):
+            columns[:, mask] = np.stack(segment.local_state(local))
+        outside = (times < 0.0) | (times > self.end_time)
         columns[3:, outside] = 0.0
         return MobileState(times, *columns)
 

@@ -10,7 +10,7 @@ acceleration all follow in closed form from the chain rule.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from trajkit._validation import choice, finite_array, finite_scalar, positive_scalar
-from trajkit.curve import Curve, check_order
+from trajkit.curve import Segmented, check_order
 from trajkit.errors import InvalidInputError
 from trajkit.profiles import cubic, quintic, scurve, septic, trapezoidal
 from trajkit.rotations import as_rotation_matrices, axis_rotation, rotation_error, slerp_axis
@@ -196,7 +196,7 @@ def path_law(
     return scurve(0.0, 1.0, u_limits["vmax"], u_limits["amax"], u_limits["jmax"], duration=duration)
 
 
-class TaskTrajectory(Curve):
+class TaskTrajectory(Segmented):
     """Tool motion over time: segments played one after another.
 
     As a :class:`~trajkit.curve.Curve`, :meth:`evaluate` gives the tool position and
@@ -233,29 +233,7 @@ class TaskTrajectory(Curve):
                     raise InvalidInputError(
                         f"segment {i + 1} starts turned {turn:.3g} rad from where segment {i} ends"
                     )
-        self._segments = segments
-        durations = np.array([s.law.duration for s in segments])
-        self._breakpoints = np.concatenate([[0.0], np.cumsum(durations)])
-
-    @property
-    def segments(self) -> tuple[TaskSegment, ...]:
-        """The segments, in order."""
-        return self._segments
-
-    @property
-    def duration(self) -> float:
-        """Total time (s)."""
-        return float(self._breakpoints[-1])
-
-    @property
-    def end_time(self) -> float:
-        """The duration (s): a task trajectory starts at 0."""
-        return self.duration
-
-    @property
-    def breakpoints(self) -> FloatArray:
-        """Segment start times and the end time (s)."""
-        return self._breakpoints.copy()
+        self._store(segments, [s.law.duration for s in segments])
 
     @property
     def has_orientation(self) -> bool:
@@ -277,45 +255,25 @@ class TaskTrajectory(Curve):
         ``[0, duration]`` are clamped, as in :meth:`state`.
         """
         order = check_order(order, where=" for a task trajectory")
-        times, clamped, index = self._locate(t)
+        times = np.atleast_1d(finite_array("t", t)).reshape(-1)
         value = np.empty((times.size, 3))
-        for segment, mask, local in self._pieces(clamped, index):
+        for segment, mask, local in self._pieces(times):
             value[mask] = _tool_derivatives(segment, local, order)[order]
         return value[0] if np.ndim(t) == 0 else value
-
-    def _locate(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, np.ndarray]:
-        """The times, clamped to ``[0, duration]``, and the segment of each."""
-        times = np.atleast_1d(finite_array("t", t)).reshape(-1)
-        clamped = np.clip(times, 0.0, self.duration)
-        index = np.clip(
-            np.searchsorted(self._breakpoints, clamped, side="right") - 1,
-            0,
-            len(self._segments) - 1,
-        )
-        return times, clamped, index
-
-    def _pieces(
-        self, clamped: FloatArray, index: np.ndarray
-    ) -> Iterator[tuple[TaskSegment, np.ndarray, FloatArray]]:
-        """``(segment, mask, local times)`` of each segment that holds a time."""
-        for k, segment in enumerate(self._segments):
-            mask = index == k
-            if mask.any():
-                yield segment, mask, clamped[mask] - self._breakpoints[k]
 
     def state(self, t: ArrayLike) -> TaskState:
         """Position, velocity, acceleration (and orientation, ω, α) at times ``t`` (s).
 
         Times outside ``[0, duration]`` are clamped, so the end pose holds.
         """
-        times, clamped, index = self._locate(t)
+        times = np.atleast_1d(finite_array("t", t)).reshape(-1)
         m = times.size
         position, velocity, acceleration = (np.empty((m, 3)) for _ in range(3))
         oriented = self.has_orientation
         if oriented:
             rotation = np.empty((m, 3, 3))
             omega, alpha = np.empty((m, 3)), np.empty((m, 3))
-        for segment, mask, local in self._pieces(clamped, index):
+        for segment, mask, local in self._pieces(times):
             position[mask], velocity[mask], acceleration[mask] = _tool_derivatives(
                 segment, local, 2
             )

@@ -247,12 +247,16 @@ def arm(
     return figure
 
 
-def task_space(task: TaskTrajectory, *, title: str | None = None, width: float = 8.0) -> Figure:
+def task_space(
+    task: TaskTrajectory, *, unit: str = "m", title: str | None = None, width: float = 8.0
+) -> Figure:
     """Tool position, velocity and acceleration components against time.
 
     Parameters
     ----------
     task : TaskTrajectory
+    unit : str
+        The path's length unit, for the labels (m by default; "cm" for seed 003).
     title : str, optional
     width : float
         Figure width (inches).
@@ -263,23 +267,23 @@ def task_space(task: TaskTrajectory, *, title: str | None = None, width: float =
         Three panels (x, y, z components and the magnitude of velocity and
         acceleration), plus angular velocity when the task has orientation.
     """
-    times = np.union1d(np.linspace(0.0, task.duration, _CURVE_POINTS), task.breakpoints)
+    times = _dense_times(task)
     state = task.state(times)
     panels = [
-        ("position", state.position, ""),
-        ("velocity", state.velocity, "/s"),
-        ("acceleration", state.acceleration, "/s²"),
+        ("position", state.position, unit),
+        ("velocity", state.velocity, f"{unit}/s"),
+        ("acceleration", state.acceleration, f"{unit}/s²"),
     ]
     if state.angular_velocity is not None:
-        panels.append(("angular velocity", state.angular_velocity, " rad/s"))
+        panels.append(("angular velocity", state.angular_velocity, "rad/s"))
     figure = Figure(figsize=(width, 2.2 * len(panels)), layout="constrained")
     axes = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
-    for ax, (name, values, unit) in zip(axes, panels, strict=True):
+    for ax, (name, values, label_unit) in zip(axes, panels, strict=True):
         for k, axis_name in enumerate("xyz"):
             ax.plot(times, values[:, k], label=axis_name)
         if name != "position":
             ax.plot(times, np.linalg.norm(values, axis=1), "k--", lw=1, label="magnitude")
-        ax.set_ylabel(f"{name}{unit}" if unit.startswith(" ") else f"{name} [{unit or 'len'}]")
+        ax.set_ylabel(f"{name} [{label_unit}]")
         ax.grid(True, alpha=0.3)
         ax.legend(loc="upper right", fontsize="small", ncol=4)
     axes[-1].set_xlabel("time [s]")
