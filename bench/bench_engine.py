@@ -20,7 +20,7 @@ states), so it is the same work that is timed.
      (``Ruckig(6, 0.001)``, ``DurationDiscretization.Discrete``). The batch
      planner puts every switching time on the grid (``grid="switches"``), which
      may cost whole periods over ruckig's duration-only grid: the difference is
-     printed in periods, and single ``tk.scurve(..., dt, grid="duration")`` calls
+     printed in periods, and single ``tk.scurve(..., period=dt, grid="duration")`` calls
      on a sample are checked against ruckig to ~1e-6.
 6.   Online, period 1 ms: ``tk.online.Generator.update`` vs ruckig's ``update`` +
      ``pass_to_input``, us per control cycle, the states compared cycle by cycle.
@@ -133,7 +133,7 @@ def warm_up(p: dict[str, np.ndarray]) -> None:
             lambda: tk.scurve(p["q0"][0], p["qf"][0], *lim, period=DT, grid="duration"),
         ),
         ("tk.batch.scurve", lambda: tk.batch.scurve(few["q0"], few["qf"], *lim)),
-        ("tk.batch.scurve dt", lambda: tk.batch.scurve(few["q0"], few["qf"], *lim, period=DT)),
+        ("tk.batch.scurve period", lambda: tk.batch.scurve(few["q0"], few["qf"], *lim, period=DT)),
         ("online update", lambda: tk.online.Generator(NDOF, DT, *lim).update(p["qf"][0])),
     ]
     total = 0.0

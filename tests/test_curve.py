@@ -72,13 +72,17 @@ def test_a_straight_path_has_no_second_or_higher_derivative(path):
     ids=["arc", "ellipse", "figure eight"],
 )  # fmt: skip
 def test_a_curved_path_has_every_derivative(path):
-    # Each order is the derivative of the one below it (central differences, 1e-6).
-    u = np.linspace(0.1, 0.9, 5)
+    assert_each_order_is_the_slope_of_the_one_below(path, np.linspace(0.1, 0.9, 5), 1e-6)
+
+
+def assert_each_order_is_the_slope_of_the_one_below(curve, t, tolerance, highest=5):
+    """Orders 1 to ``highest`` against central differences of the order below."""
     h = 1e-6
-    for order in range(1, 6):
-        slope = (path.evaluate(u + h, order - 1) - path.evaluate(u - h, order - 1)) / (2 * h)
-        scale = np.max(np.abs(path.evaluate(u, order)))
-        np.testing.assert_allclose(path.evaluate(u, order), slope, rtol=0, atol=1e-6 * scale)
+    for order in range(1, highest + 1):
+        slope = (curve.evaluate(t + h, order - 1) - curve.evaluate(t - h, order - 1)) / (2 * h)
+        exact = curve.evaluate(t, order)
+        scale = np.max(np.abs(exact))
+        np.testing.assert_allclose(exact, slope, rtol=0, atol=tolerance * scale)
 
 
 def test_a_task_trajectory_at_a_constant_rate_on_an_arc_has_the_closed_form_jerk():
@@ -101,11 +105,7 @@ def test_a_task_trajectory_has_every_order_by_the_chain_rule():
     # Bell polynomial term counts.
     task = timed(Ellipse([0, 0, 0], 1.0, 0.5), "septic", duration=2.0)
     t = np.linspace(0.2, 1.8, 7)
-    h = 1e-6
-    for order in range(1, 6):
-        slope = (task.evaluate(t + h, order - 1) - task.evaluate(t - h, order - 1)) / (2 * h)
-        scale = np.max(np.abs(task.evaluate(t, order)))
-        np.testing.assert_allclose(task.evaluate(t, order), slope, rtol=0, atol=1e-5 * scale)
+    assert_each_order_is_the_slope_of_the_one_below(task, t, 1e-5)
     # On a line the jerk is the law's, along the line.
     line = timed(Line([0, 0, 0], [3, 4, 0]), "septic", duration=2.0)
     law = line.segments[0].law
@@ -193,9 +193,15 @@ class _Mixed(tk.Curve):
         return np.stack([t**2 / 2, t], axis=1) if order == 0 else np.zeros((t.size, 2))
 
 
+class _Unknown(_Mixed):
+    components = (("a", ""), ("b", ""))
+
+
 def test_a_curve_in_several_units_needs_the_unit_named():
     with pytest.raises(tk.InvalidInputError, match=r"in 'm', 'rad': give the position unit"):
         _Mixed().sample(0.5)
+    with pytest.raises(tk.InvalidInputError, match=r"_Unknown's values is not known: give it"):
+        _Unknown().sample(0.5)
     samples = _Mixed().sample(0.5, unit="mixed")
     assert samples.names == ("x", "heading") and samples.q[-1].tolist() == [0.5, 1.0]
     with pytest.raises(tk.InvalidInputError, match="sample_step must be > 0"):

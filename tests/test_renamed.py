@@ -63,8 +63,9 @@ def _fingerprint(result: object) -> np.ndarray:
 def test_the_old_name_gives_what_the_new_name_gives_with_a_warning(name):
     call, new, value = CALLS[name]
     expected = _fingerprint(call(**{new: value}))
-    with pytest.warns(FutureWarning, match=rf"dt= is renamed {new}="):
+    with pytest.warns(FutureWarning, match=rf"dt= is renamed {new}=") as caught:
         old = _fingerprint(call(dt=value))
+    assert "__init__" not in str(caught[0].message)  # the name called: Generator, not __init__
     np.testing.assert_array_equal(old, expected)
     # The grid or step was taken: a different value gives a different answer.
     assert not np.array_equal(_fingerprint(call(**{new: value * 3})), expected)

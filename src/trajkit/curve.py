@@ -110,12 +110,17 @@ class Curve(ABC):
         step = positive_scalar("sample_step", sample_step, unit="s")
         names, units = zip(*self.components, strict=True)
         if unit is None:
-            if len(set(units)) != 1 or not units[0]:
+            known = list(dict.fromkeys(units))
+            if known == [""]:
                 raise InvalidInputError(
-                    f"the columns of a {kind} are in {', '.join(repr(u) for u in units)}: "
+                    f"the unit of a {kind}'s values is not known: give it, unit='...'"
+                )
+            if len(known) != 1:
+                raise InvalidInputError(
+                    f"the columns of a {kind} are in {', '.join(repr(u) for u in known)}: "
                     "give the position unit, unit='...'"
                 )
-            unit = units[0]
+            unit = known[0]
         times = sample_times(self.start_time, self.end_time, step)
         derivatives = [self.evaluate(times, order) for order in range(4)]
         return Samples(times, *derivatives, unit=unit, names=names, metadata=self._metadata())
@@ -144,8 +149,8 @@ class Curve(ABC):
 class Segmented(Curve):
     """A curve made of segments played one after another from ``t = 0``.
 
-    Subclasses store their segments with :meth:`_store`; each segment has a
-    ``duration`` (s). The segment boundaries are the breakpoints.
+    Subclasses store their segments and the segments' durations (s) with
+    :meth:`_store`; the segment boundaries are the breakpoints.
     """
 
     __slots__ = ()
@@ -174,8 +179,8 @@ class Segmented(Curve):
     def _pieces(self, times: FloatArray) -> Iterator[tuple[Any, np.ndarray, FloatArray]]:
         """``(segment, mask, local times)`` of each segment that holds one of ``times``.
 
-        Times are clamped to ``[0, end_time]`` (the end state holds) and each goes to
-        the last segment starting at or before it; local times run from 0 to the
+        Times are clamped to ``[0, end_time]`` and each goes to the last segment
+        starting at or before it; local times run from 0 to the
         segment's duration. A loop over segments, not samples.
         """
         bp = self._breakpoints
@@ -201,7 +206,7 @@ def check_order(order: object, highest: int | None = None, where: str = "") -> i
         if not whole:
             raise InvalidInputError(f"order must be a whole number >= 0{where}, got {order!r}")
     elif not whole or order > highest:
-        allowed = ", ".join(str(k) for k in range(highest)) + f" or {highest}"
+        allowed = ", ".join(str(k) for k in range(highest)) + f" or {highest}" if highest else "0"
         raise InvalidInputError(f"order must be {allowed}{where}, got {order!r}")
     return int(order)  # type: ignore[arg-type]
 
@@ -220,13 +225,14 @@ def sample_count(span: float, step: float, name: str = "sample_step") -> int:
     return int(np.floor(ratio * (1.0 + 1e-12)))
 
 
-def sample_times(start: float, end: float, step: float) -> FloatArray:
+def sample_times(start: float, end: float, step: float, name: str = "sample_step") -> FloatArray:
     """``start + i * step`` up to ``end``, which is always the last time, exactly.
 
     A grid point within ``1e-9 step`` of the end is moved onto it; otherwise the
-    end is appended and the last interval is shorter.
+    end is appended and the last interval is shorter. ``name`` is what a refusal
+    of too many samples calls the step.
     """
-    count = sample_count(end - start, step)
+    count = sample_count(end - start, step, name)
     times = start + step * np.arange(count + 1)
     if end - times[-1] <= 1e-9 * step:
         times[-1] = end

@@ -25,6 +25,9 @@ def renamed_keywords(**new_names: str) -> Callable[[F], F]:
     """
 
     def wrap(function: F) -> F:
+        # Generator(...) rather than __init__(...): the name a user calls.
+        where = function.__qualname__.removesuffix(".__init__")
+
         @functools.wraps(function)
         def accepting_old_names(*args: Any, **kwargs: Any) -> Any:
             for old, new in new_names.items():
@@ -32,8 +35,7 @@ def renamed_keywords(**new_names: str) -> Callable[[F], F]:
                     if new in kwargs:
                         raise InvalidInputError(f"give {new}= only: {old}= is its old name")
                     warnings.warn(
-                        f"{function.__name__}: {old}= is renamed {new}=; the old name will "
-                        "be removed",
+                        f"{where}: {old}= is renamed {new}=; the old name will be removed",
                         FutureWarning,
                         stacklevel=2,
                     )

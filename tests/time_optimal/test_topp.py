@@ -504,6 +504,19 @@ def test_bad_paths(path, match):
         tk.topp(path, LIMITS, grid=500)
 
 
+def test_motions_of_the_tool_or_the_base_are_not_joint_paths():
+    # They are curves with breakpoints, but their columns are tool x, y, z or a base's
+    # x, y, θ: timed as joints the answer would be wrong, so they are refused by name.
+    from trajkit import mobile
+    from trajkit.taskspace import Line, timed
+
+    tool = timed(Line([0, 0, 0], [1, 0, 0]), "cubic", duration=1.0)
+    base = mobile.rotate_translate_rotate((1.0, 0.0, 0.0), vmax=0.5, amax=1.0, wmax=1.0)
+    for motion, kind in ((tool, "TaskTrajectory"), (base, "MobileTrajectory")):
+        with pytest.raises(InvalidInputError, match=f"must be a joint path, got a {kind}"):
+            tk.topp(motion, tk.Limits(velocity=1.0, acceleration=1.0), grid=50)
+
+
 @pytest.mark.parametrize(
     ("limits", "match"),
     [

@@ -87,7 +87,7 @@ def test_profiles_refuses_a_batch_and_names_the_way():
     assert tk.plot.profiles(batch[1]).get_axes()[0].get_ylabel() == "position [rad]"
 
 
-def test_profiles_of_a_task_trajectory_in_metres_up_to_acceleration():
+def test_profiles_of_a_task_trajectory_in_metres_to_any_order():
     from trajkit.taskspace import Line, timed
 
     task = timed(Line([0, 0, 0], [0.3, 0.4, 0]), "trapezoid", vmax=0.5, amax=1.0)

@@ -206,7 +206,9 @@ def _arm_messages(
             raise InvalidInputError("rate_hz sets the stream's rate: pass stream= too")
         return messages
     rate = 100.0 if rate_hz is None else positive_scalar("rate_hz", rate_hz, unit="Hz")
-    ticks = _distinct(sample_times(plan.start_time, plan.end_time, 1.0 / rate), plan.start_time)
+    ticks = _distinct(
+        sample_times(plan.start_time, plan.end_time, 1.0 / rate, name="1/rate_hz"), plan.start_time
+    )
     values = [np.ascontiguousarray(plan.evaluate(ticks, order)) for order in range(3)]
     stamps = start_ns + _nanoseconds(ticks - plan.start_time)
     for k, stamp in enumerate(stamps.tolist()):

@@ -200,8 +200,9 @@ class TaskTrajectory(Segmented):
     """Tool motion over time: segments played one after another.
 
     As a :class:`~trajkit.curve.Curve`, :meth:`evaluate` gives the tool position and
-    its first two time derivatives; :meth:`state` gives everything at once, with the
-    orientation, angular velocity and angular acceleration.
+    its time derivatives of any order; :meth:`state` gives position to acceleration
+    at once, with the orientation, angular velocity and angular acceleration. Past
+    either end the times are clamped, as a :class:`~trajkit.Trajectory`'s are.
 
     Parameters
     ----------

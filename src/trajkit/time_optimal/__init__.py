@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike
 
 from trajkit import _poly
 from trajkit._validation import FloatArray, as_float_array, finite_result, finite_scalar
+from trajkit.curve import Segmented
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import Limits
 from trajkit.time_optimal.reachability import Channels, Stages
@@ -118,6 +119,14 @@ def topp(
     True
     """
     limits = _checked_limits(limits)
+    if isinstance(path, Segmented):
+        # Curves in time already, of the tool or the base: timed as joints they would
+        # be wrong without an error.
+        raise InvalidInputError(
+            f"path must be a joint path, got a {type(path).__name__} (a motion in time "
+            "of the tool or the base): time a task-space path with "
+            "trajkit.taskspace.time_optimal, a base's with trajkit.mobile"
+        )
     if not isinstance(path, Trajectory) and not hasattr(path, "breakpoints"):
         raise InvalidInputError(
             "path must be a Trajectory or have evaluate(s, order) and breakpoints, got "

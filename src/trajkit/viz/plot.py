@@ -105,7 +105,7 @@ def profiles(
         Bounds drawn as dashed lines in the joint's colour (black when shared).
     orders : sequence of int
         Which panels: 0 position, 1 velocity, 2 acceleration, 3 jerk (those the
-        curve has: a task trajectory stops at 2).
+        curve has: a base's trajectory stops at 2).
     degrees : bool
         Show angles in degrees (the data stay in radians): the columns in rad.
     unit : str, optional
