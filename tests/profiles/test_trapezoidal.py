@@ -625,6 +625,23 @@ def test_subnormal_boundary_velocities_end_exactly(law, v0, vf, qf):
         assert abs(v0 - vf) <= 5e-324 and qf == 0.0
 
 
+def test_a_long_way_round_with_a_long_slow_coast_blocks_the_durations_below_it():
+    # Found by hypothesis: joint 1 rides at -32 rad/s (its lower limit) from 1 to 0 rad
+    # and ends so; the other joint must stop, which takes 5.1e6 s at 0.01 rad/s^2.
+    # Joint 1 can only take that long the long way round (brake to +0.01 rad/s, coast
+    # back 5.2e6 s, speed up again), whose record missed its target by 1.03e-8 rad to
+    # rounding: the durations between were taken as free, and the plan failed.
+    vmax, amax = ((-32.0, -32.0), (0.01, 0.01)), ((-1.0, -1.0), (0.01, 0.01))
+    tr = tk.trapezoidal([1.0, 1.0], [0.0, 0.0], vmax, amax, v0=[-32.0, -32.0], vf=[-32.0, 0.0])
+    brake, ramp = 32.01 / 0.01, 32.01 / 1.0
+    # The coast covers what the ramps leave of the -1 rad, at +0.01 rad/s.
+    coast = (-1.0 - (0.01**2 - 32.0**2) / 0.02 - (32.0**2 - 0.01**2) / -2.0) / 0.01
+    assert tr.duration == pytest.approx(brake + coast + ramp, rel=1e-12)
+    assert tr.check(tk.Limits(velocity=vmax, acceleration=amax)).ok
+    assert tr.end_state.velocity.tolist() == [-32.0, 0.0]
+    np.testing.assert_allclose(tr.end_state.position, [0.0, 0.0], rtol=0, atol=1e-8)
+
+
 @pytest.mark.parametrize("law", ["trapezoid", "scurve"])
 @pytest.mark.parametrize("speed", [1e-300, 7.09155576e-258, 1e-200, 1e-162, 1e-17])
 @pytest.mark.parametrize("period", [None, 0.01])
