@@ -1172,6 +1172,27 @@ def _sizes(bound: float) -> st.SearchStrategy[float]:
     amax=1.0,
     planner="trapezoidal",
 )
+@example(  # joint 2 done a few ulps of the duration early, 1.7e-18 rad on: qf exactly
+    q0=np.array([0.0, 0.0]),
+    distance=np.array([0.0, 0.0]),
+    vf=np.array([0.5234375, 0.0078125]),
+    amax=1.0,
+    planner="scurve",
+)
+@example(  # joint 1 done 22 ulps of the duration early, 3.8e-17 rad on: still qf exactly
+    q0=np.array([0.0, 0.25]),
+    distance=np.array([1e-6, 1e-6]),
+    vf=np.array([0.25, 0.25]),
+    amax=15.0,
+    planner="trapezoidal",
+)
+@example(  # the same at 17 rad/s^2, where the coast is 7 times the positions' rounding
+    q0=np.array([0.0, 0.25]),
+    distance=np.array([1e-6, 1e-6]),
+    vf=np.array([0.25, 0.25]),
+    amax=17.0,
+    planner="trapezoidal",
+)
 def test_property_limit_driven_plans_end_exactly_in_their_boundary_state(
     q0, distance, vf, amax, planner
 ) -> None:

@@ -282,3 +282,22 @@ def test_mobile_path_draws_the_robot(drive, tracked, tmp_path):
 def test_mobile_plot_bad_input(drive, call, message):
     with pytest.raises(tk.InvalidInputError, match=message):
         call(drive)
+
+
+class _Bare(tk.Curve):
+    """A curve known to the protocol only: names c1, c2 and no unit."""
+
+    end_time = 2.0
+
+    def evaluate(self, t, order=0):
+        t = np.atleast_1d(t)
+        values = [np.stack([t, t**2], axis=1), np.stack([np.ones_like(t), 2 * t], axis=1)]
+        return values[order] if order < 2 else np.zeros((t.size, 2))
+
+
+def test_profiles_of_a_bare_curve_label_no_unit_they_do_not_know():
+    axes = tk.plot.profiles(_Bare()).get_axes()
+    assert [ax.get_ylabel() for ax in axes] == ["position", "velocity", "acceleration"]
+    assert [t.get_text() for t in axes[0].get_legend().get_texts()] == ["c1", "c2"]
+    assert axes[1].get_lines()[1].get_ydata()[-1] == 4.0
+    assert tk.plot.profiles(_Bare(), unit="V").get_axes()[1].get_ylabel() == "velocity [V/s]"

@@ -36,7 +36,6 @@ __all__ = ["arm", "mobile", "mobile_path", "profiles", "save", "task_space", "tr
 
 _QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 _FIELDS = ("q", "qd", "qdd", "qddd")
-_PER_SECOND = ("", "/s", "/s²", "/s³")
 _CURVE_POINTS = 1500  # enough for smooth curves on any screen
 
 
@@ -76,8 +75,8 @@ def _axis_label(quantity: str, units: list[str], parameter_unit: str, order: int
     # Per unit of the parameter: nothing to add for a dimensionless one (a path's u).
     per = ("", f"/{parameter_unit}", f"/{parameter_unit}²", f"/{parameter_unit}³")[order]
     per = per if parameter_unit else ""
-    shown = list(dict.fromkeys(f"{u}{per}" if u else per.lstrip("/") for u in units))
-    shown = [u for u in shown if u]
+    # A column of unknown unit (a bare Curve's) labels nothing rather than a guess.
+    shown = [f"{u}{per}" for u in dict.fromkeys(units) if u]
     return f"{quantity} [{', '.join(shown)}]" if shown else quantity
 
 
