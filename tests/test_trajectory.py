@@ -1186,11 +1186,11 @@ def _sizes(bound: float) -> st.SearchStrategy[float]:
     amax=15.0,
     planner="trapezoidal",
 )
-@example(  # the same at 17 rad/s^2, where the coast is 7 times the positions' rounding
+@example(  # the same at 57 rad/s^2: 75 ulps of the shorter duration early
     q0=np.array([0.0, 0.25]),
     distance=np.array([1e-6, 1e-6]),
     vf=np.array([0.25, 0.25]),
-    amax=17.0,
+    amax=57.0,
     planner="trapezoidal",
 )
 def test_property_limit_driven_plans_end_exactly_in_their_boundary_state(

@@ -53,6 +53,10 @@ V_PRECISION = 1e-8
 A_PRECISION = 1e-10
 T_MAX = 1e12
 EPS = 2.220446049250313e-16
+#: A common duration within this (s, absolute, as in the reference) of the duration
+#: of one of a joint's step-1 profiles reuses that profile as it is: the joint may
+#: then reach its target state up to this much before the common duration.
+REUSE_WITHIN = 2.0 * EPS
 
 
 @njit(cache=True, error_model="numpy")

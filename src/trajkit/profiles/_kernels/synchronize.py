@@ -81,6 +81,7 @@ from trajkit.profiles._kernels.layout import (
     VF as REC_VF,
 )
 from trajkit.profiles._kernels.profile import (
+    REUSE_WITHIN,
     finalize_brake,
     finalize_brake_second_order,
     integrate,
@@ -1012,12 +1013,12 @@ def _take_duration(
         prof[:] = block[0]
         return True
     t_profile = duration - block[0, BRAKE_DURATION]
-    if abs(t_profile - (times[0] - block[0, BRAKE_DURATION])) < 2 * _EPS:
+    if abs(t_profile - (times[0] - block[0, BRAKE_DURATION])) < REUSE_WITHIN:
         prof[:] = block[0]
         return True
     for k in (1, 2):
         right = times[2 * k]
-        if not math.isinf(right) and abs(duration - right) < 2 * _EPS:
+        if not math.isinf(right) and abs(duration - right) < REUSE_WITHIN:
             prof[:] = block[k]
             return True
     prof[:] = block[0]

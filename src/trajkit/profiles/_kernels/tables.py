@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit, prange
 
 from trajkit.profiles._kernels.layout import BRAKE_A, BRAKE_J, BRAKE_T, A, J, T
-from trajkit.profiles._kernels.profile import P_PRECISION, integrate
+from trajkit.profiles._kernels.profile import P_PRECISION, REUSE_WITHIN, integrate
 
 PHASES = 9  # two brake phases, seven profile phases
 # Breakpoints closer than this (relative to the duration) are one switch computed
@@ -548,15 +548,15 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
                 value = math.nan  # a trapezoid's acceleration jumps: no exact value
             elif (
                 order == 0
-                and duration - finish[d] > _FINISH_ULPS * _EPS * duration
+                and duration - finish[d] > REUSE_WITHIN + _TIME_ULPS * _EPS * duration
                 and abs(target[1, d]) * (duration - finish[d]) > _TIME_ULPS * _EPS * scale
             ):
                 # Still coasting at its target velocity, elsewhere: done earlier than
-                # the laws place a duration, and moved on by more than the rounding of
-                # positions this large (the boundary tolerance could hide a real
-                # coast). Found by hypothesis: a joint timed to a duration set by
-                # another, 2.9e-17 rad longer, move was done 22 ulps of the duration
-                # early and had coasted 3.8e-17 rad on: the laws' precision.
+                # a reused fastest profile and rounding explain, and moved on by more
+                # than the rounding of positions this large (the boundary tolerance
+                # could hide a real coast). Found by hypothesis: a joint whose fastest
+                # profile was reused for a duration set by another, 2.9e-17 rad longer,
+                # move was done 1.5e-16 s early and had coasted 3.8e-17 rad on.
                 value = math.nan
             miss = abs(value - values[order])
             if miss > BOUNDARY_RTOL * scale + BOUNDARY_ATOL:
@@ -570,9 +570,6 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
 # A miss of the end state this many units in the last place of the duration, times
 # the next derivative, is the pieces' rounding in absolute time, not a lost target.
 _TIME_ULPS = 16.0
-# A joint timed to a common duration ends within this many of its units in the last
-# place (the timed laws' precision: 22 seen), so that much earlier is not "elsewhere".
-_FINISH_ULPS = 64.0
 
 
 @njit(cache=True, error_model="numpy")
