@@ -259,7 +259,7 @@ class TaskTrajectory(Segmented):
         times = np.atleast_1d(finite_array("t", t)).reshape(-1)
         value = np.empty((times.size, 3))
         for segment, mask, local in self._pieces(times):
-            value[mask] = _tool_derivatives(segment, local, order)[order]
+            value[mask] = _tool_derivatives(segment, local, order)[0][order]
         return value[0] if np.ndim(t) == 0 else value
 
     def state(self, t: ArrayLike) -> TaskState:
@@ -275,13 +275,9 @@ class TaskTrajectory(Segmented):
             rotation = np.empty((m, 3, 3))
             omega, alpha = np.empty((m, 3)), np.empty((m, 3))
         for segment, mask, local in self._pieces(times):
-            position[mask], velocity[mask], acceleration[mask] = _tool_derivatives(
-                segment, local, 2
-            )
+            tool, (u, ud, udd) = _tool_derivatives(segment, local, 2)
+            position[mask], velocity[mask], acceleration[mask] = tool
             if oriented:
-                u = segment.law.position(local)[:, 0]
-                ud = segment.law.velocity(local)[:, 0]
-                udd = segment.law.acceleration(local)[:, 0]
                 assert segment.rotation is not None and segment.axis is not None
                 turn = axis_rotation(segment.axis, segment.angle * u)
                 rotation[mask] = turn @ segment.rotation
@@ -292,8 +288,13 @@ class TaskTrajectory(Segmented):
         return TaskState(times, position, velocity, acceleration, rotation, omega, alpha)
 
 
-def _tool_derivatives(segment: TaskSegment, local: FloatArray, highest: int) -> list[FloatArray]:
+def _tool_derivatives(
+    segment: TaskSegment, local: FloatArray, highest: int
+) -> tuple[list[FloatArray], list[FloatArray]]:
     """The tool position and its time derivatives up to ``highest`` along a segment.
+
+    Returned with the law's ``u`` and its derivatives up to ``highest``, which the
+    orientation reuses.
 
     ``p(u(t))`` differentiated by Faà di Bruno's formula: the ``n``-th derivative is
     ``sum_k p^(k)(u) B_{n,k}(u^(1), u^(2), ...)`` with the partial Bell polynomials
@@ -316,7 +317,7 @@ def _tool_derivatives(segment: TaskSegment, local: FloatArray, highest: int) -> 
     derivatives = [path[0]]
     for n in range(1, highest + 1):
         derivatives.append(sum(path[k] * bell[n][k][:, np.newaxis] for k in range(n, 0, -1)))
-    return derivatives
+    return derivatives, law
 
 
 def _checked_segment(index: int, segment: TaskSegment) -> TaskSegment:
