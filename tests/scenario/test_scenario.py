@@ -585,3 +585,46 @@ def test_extreme_numbers_are_one_line_errors_naming_the_key(tmp_path, capsys, te
     assert captured.err.startswith("trajkit: error: ") and captured.err.count("\n") == 1
     assert message in captured.err
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
+
+
+# ------------------------------------------------------------------ the reader
+def _table(**data):
+    from trajkit.scenario.reader import Table
+
+    return Table(data, "task")
+
+
+@pytest.mark.parametrize(
+    ("read", "message"),
+    [
+        (lambda t: t.value("k"), "task.k: required"),
+        (lambda t: t.number("k"), "task.k: required, expected a number"),
+        (lambda t: t.number("k", angles=True), "task.k: required, expected a number"),
+        (lambda t: t.numbers("k"), "task.k: required, expected a list of numbers"),
+        (lambda t: t.matrix("k"), "task.k: required, expected a list of lists of numbers"),
+        (lambda t: t.string("k"), "task.k: required, expected a string"),
+        (lambda t: t.table("k", required=True), "task.k: required table is missing"),
+        (lambda t: t.tables("k"), "task.k: required, expected an array of tables"),
+    ],
+)
+def test_reader_names_a_missing_required_key(read, message):
+    with pytest.raises(ScenarioError) as caught:
+        read(_table())
+    assert str(caught.value) == message
+
+
+def test_reader_gives_the_default_of_a_missing_key_as_it_is():
+    table = _table()
+    marker = object()
+    assert table.number("k", marker) is marker
+    assert table.number("k", None, angles=True, positive=True) is None
+    assert table.numbers("k", marker, count=3) is marker
+    assert table.string("k", marker, choices=("a",)) is marker
+    assert table.boolean("k", False) is False
+    assert table.table("k") is None
+
+
+def test_reader_refuses_an_angle_in_both_units_even_with_a_default():
+    with pytest.raises(ScenarioError, match=r"^task\.q: give q or q_deg, not both$"):
+        _table(q=1.0, q_deg=2.0).number("q", 0.0, angles=True)
+    assert _table(q_deg=90.0).number("q", 0.0, angles=True) == pytest.approx(math.pi / 2)

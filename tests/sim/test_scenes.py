@@ -441,3 +441,31 @@ def test_compiled_models_are_cached_and_bounded():
     for kp in range(2, 12):
         scene.compiled(sim.PositionServo(kp=float(kp)))
     assert len(scene._compiled) <= 8
+
+
+@pytest.mark.parametrize(
+    ("controller", "kinds", "gains"),
+    [
+        (sim.PositionServo(kp=[1.0, 2.0], kv=3.0), ["position"], [([1, 2], [3, 3])]),
+        (
+            sim.VelocityServo(kp=4.0, kv=[5.0, 0.0]),
+            ["intvelocity", "velocity"],
+            [([4, 4], None), (None, [5, 0])],
+        ),
+        (
+            sim.PDFeedforward(kp=0.0, kv=6.0),
+            ["motor", "position", "velocity"],
+            [(None, None), ([0, 0], None), (None, [6, 6])],
+        ),
+        (sim.ComputedTorque(), ["motor"], [(None, None)]),
+    ],
+)
+def test_each_controller_puts_its_actuators_and_gains_on_every_joint(controller, kinds, gains):
+    actuators = controller.actuators(2)
+    assert [actuator.kind for actuator in actuators] == kinds
+    for actuator, (kp, kv) in zip(actuators, gains, strict=True):
+        for value, expected in ((actuator.kp, kp), (actuator.kv, kv)):
+            if expected is None:
+                assert value is None
+            else:
+                np.testing.assert_array_equal(value, expected)

@@ -31,6 +31,7 @@ import io
 import math
 import os
 import re
+from collections.abc import Container
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -286,20 +287,11 @@ def _check_structure(label: str, root: etree._Element) -> dict[str, _JointGeomet
         raise InvalidInputError(f"{label}: <robot> has no name attribute")
     links: set[str] = set()
     for element in root.findall("link"):
-        link = element.get("name")
-        if not link:
-            raise InvalidInputError(f"{label}: a <link> has no name attribute")
-        if link in links:
-            raise InvalidInputError(f"{label}: link {link!r} is defined twice")
-        links.add(link)
+        links.add(_new_name(label, element, "link", links))
     geometry: dict[str, _JointGeometry] = {}
     parent_joint: dict[str, str] = {}
     for element in root.findall("joint"):
-        joint = element.get("name")
-        if not joint:
-            raise InvalidInputError(f"{label}: a <joint> has no name attribute")
-        if joint in geometry:
-            raise InvalidInputError(f"{label}: joint {joint!r} is defined twice")
+        joint = _new_name(label, element, "joint", geometry)
         for role in ("parent", "child"):
             ref = element.find(role)
             link = None if ref is None else ref.get("link")
@@ -325,6 +317,16 @@ def _check_structure(label: str, root: etree._Element) -> dict[str, _JointGeomet
             axis=_triple(label, joint, axis, "axis", "xyz", (1.0, 0.0, 0.0)),
         )
     return geometry
+
+
+def _new_name(label: str, element: etree._Element, kind: str, taken: Container[str]) -> str:
+    """The ``name`` of a ``<link>`` or ``<joint>`` element, which no other one of its kind has."""
+    name = element.get("name")
+    if not name:
+        raise InvalidInputError(f"{label}: a <{kind}> has no name attribute")
+    if name in taken:
+        raise InvalidInputError(f"{label}: {kind} {name!r} is defined twice")
+    return name
 
 
 def _triple(

@@ -32,9 +32,9 @@ from trajkit.mobile.flatness import (
     _flat_state,
     flat_trajectory,
 )
-from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
+from trajkit.mobile.limits import MobileLimits, check_limits
 from trajkit.mobile.models import Model, resolve_model
-from trajkit.mobile.trajectory import MobileTrajectory, channel_weights
+from trajkit.mobile.trajectory import MobileTrajectory, limited_channels
 from trajkit.time_optimal import grid_points
 from trajkit.time_optimal.reachability import Channels, Stages
 from trajkit.time_optimal.timing import as_polynomial, timed
@@ -137,11 +137,7 @@ def _channels(curve: Trajectory, s: FloatArray, model: Model, limits: MobileLimi
         neighbour = np.where(k + 1 < s.size, k + 1, k - 1)
         theta_2[k] = (theta_1[neighbour] - theta_1[k]) / (s[neighbour] - s[k])
     slopes, curves, velocity, acceleration = [], [], [[], []], [[], []]
-    for attribute, _, _ in QUANTITIES:
-        bounds = getattr(limits, attribute)
-        if bounds is None:
-            continue
-        order, weights = channel_weights(attribute, model)
+    for _, bounds, order, weights in limited_channels(limits, model):
         for _, cv, cw in weights:
             slopes.append(cv * sigma_1 + cw * theta_1)
             curves.append(cv * sigma_2 + cw * theta_2)

@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 from trajkit._validation import FloatArray, finite_array, increasing_times, positive_scalar
 from trajkit.curve import Curve
 from trajkit.errors import InfeasibleError, InvalidInputError
-from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
+from trajkit.mobile.limits import MobileLimits, check_limits
 from trajkit.mobile.models import Model, resolve_model, wrap_angle
 from trajkit.mobile.plans import plan_phase
 from trajkit.mobile.trajectory import (
@@ -34,7 +34,7 @@ from trajkit.mobile.trajectory import (
     MobileTrajectory,
     Segment,
     Turn,
-    channel_weights,
+    limited_channels,
 )
 from trajkit.profiles import cubic_spline
 from trajkit.trajectory import Trajectory
@@ -644,11 +644,7 @@ def _uniform_scale(
     """
     curves = [s for s in segments if isinstance(s, FlatSegment)]
     scale, which = 0.0, None
-    for attribute, quantity, _ in QUANTITIES:
-        bounds = getattr(limits, attribute)
-        if bounds is None:
-            continue
-        order, weights = channel_weights(attribute, model)
+    for quantity, bounds, order, weights in limited_channels(limits, model):
         for _, cv, cw in weights:
             for curve in curves:
                 low, t_low, high, t_high = curve.extrema(order, cv, cw)

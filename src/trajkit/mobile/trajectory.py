@@ -12,7 +12,7 @@ import dataclasses
 import math
 import os
 from abc import ABC, abstractmethod
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
@@ -25,7 +25,7 @@ from trajkit._validation import FloatArray, finite_array, positive_scalar
 from trajkit.curve import MAX_SAMPLES, Segmented, check_order, sample_times
 from trajkit.errors import InvalidInputError
 from trajkit.io.table import write_csv
-from trajkit.limits import Report, Violation, compare
+from trajkit.limits import Bounds, Report, Violation, compare
 from trajkit.mobile.limits import QUANTITIES, MobileLimits, check_limits
 from trajkit.mobile.models import (
     DiffDrive,
@@ -255,6 +255,22 @@ def channel_weights(attribute: str, model: Model) -> tuple[int, list[tuple[str, 
     return order, [("base", 1.0 if linear else 0.0, 0.0 if linear else 1.0)]
 
 
+def limited_channels(
+    limits: MobileLimits, model: Model
+) -> Iterator[tuple[str, Bounds, int, list[tuple[str, float, float]]]]:
+    """Each limit set in ``limits``, in :data:`QUANTITIES` order, and what it bounds.
+
+    Yields ``(quantity, bounds, order, weights)``: the quantity's name, its bounds,
+    the derivative of the pose it bounds (1 or 2) and the channels'
+    ``(name, cv, cw)`` weights of v and ω (:func:`channel_weights`).
+    """
+    for attribute, quantity, _ in QUANTITIES:
+        bounds = getattr(limits, attribute)
+        if bounds is not None:
+            order, weights = channel_weights(attribute, model)
+            yield quantity, bounds, order, weights
+
+
 def _segment_continuity(part: Segment) -> float:
     """How many derivatives of the pose are continuous inside one segment (never more)."""
     if isinstance(part, Arc):
@@ -476,11 +492,7 @@ class MobileTrajectory(Segmented):
         tolerance = positive_scalar("rtol", rtol)
         violations: list[Violation] = []
         peaks, bounds, channels = {}, {}, {}
-        for attribute, quantity, _ in QUANTITIES:
-            limit = getattr(limits, attribute)
-            if limit is None:
-                continue
-            order, weights = channel_weights(attribute, self._model)
+        for quantity, limit, order, weights in limited_channels(limits, self._model):
             found = self._extrema(order, weights)
             lower = np.full(len(weights), float(limit.lower))
             upper = np.full(len(weights), float(limit.upper))

@@ -56,7 +56,14 @@ class Table:
         """True when ``key`` (or, for an angle, ``key_deg``) is given."""
         return key in self.data or (angles and f"{key}_deg" in self.data)
 
-    def _take(self, key: str, *, angles: bool) -> tuple[Any, str, float]:
+    def _take(
+        self, key: str, default: Any, *, angles: bool = False, expected: str = ""
+    ) -> tuple[Any, str, float]:
+        """The value of ``key`` (or of ``key_deg``), its key path, and its scale to radians.
+
+        An absent key's value is ``_MISSING``; without a ``default`` (``_MISSING``) it
+        is refused as required, ``expected`` ending the message.
+        """
         degrees = f"{key}_deg"
         if angles and key in self.data and degrees in self.data:
             raise ScenarioError(f"{self.where(key)}: give {key} or {degrees}, not both")
@@ -66,22 +73,22 @@ class Table:
         if key in self.data:
             self._read.add(key)
             return self.data[key], self.where(key), 1.0
+        if default is _MISSING:
+            raise ScenarioError(f"{self.where(key)}: required{expected}")
         return _MISSING, self.where(key), 1.0
 
     def value(self, key: str) -> Any:
         """The raw value of ``key`` (marked as read); the caller checks it."""
-        value, where, _ = self._take(key, angles=False)
-        if value is _MISSING:
-            raise ScenarioError(f"{where}: required")
+        value, _, _ = self._take(key, _MISSING)
         return value
 
     def number(self, key: str, default: Any = _MISSING, *, angles: bool = False,
                positive: bool = False) -> Any:  # fmt: skip
         """A finite number (radians for ``key_deg``), or ``default`` when absent."""
-        value, where, scale = self._take(key, angles=angles)
+        value, where, scale = self._take(
+            key, default, angles=angles, expected=", expected a number"
+        )
         if value is _MISSING:
-            if default is _MISSING:
-                raise ScenarioError(f"{where}: required, expected a number")
             return default
         number = _finite(value, where)
         if positive and number <= 0:
@@ -92,19 +99,19 @@ class Table:
                 angles: bool = False, scalar_ok: bool = False,
                 positive: bool = False) -> Any:  # fmt: skip
         """A list of finite numbers (or one number if ``scalar_ok``) as an array."""
-        value, where, scale = self._take(key, angles=angles)
+        value, where, scale = self._take(
+            key, default, angles=angles, expected=", expected a list of numbers"
+        )
         if value is _MISSING:
-            if default is _MISSING:
-                raise ScenarioError(f"{where}: required, expected a list of numbers")
             return default
         return _vector(value, where, scale, count=count, scalar_ok=scalar_ok, positive=positive)
 
     def matrix(self, key: str, *, columns: int | None = None, angles: bool = False,
                minimum_rows: int = 1) -> FloatArray:  # fmt: skip
         """A list of equally long lists of numbers, as a 2-D array."""
-        value, where, scale = self._take(key, angles=angles)
-        if value is _MISSING:
-            raise ScenarioError(f"{where}: required, expected a list of lists of numbers")
+        value, where, scale = self._take(
+            key, _MISSING, angles=angles, expected=", expected a list of lists of numbers"
+        )
         if not isinstance(value, list) or len(value) < minimum_rows:
             raise ScenarioError(f"{where}: expected a list of at least {minimum_rows} lists of "
                                 f"numbers, got {_describe(value)}")  # fmt: skip
@@ -119,10 +126,8 @@ class Table:
     def string(self, key: str, default: Any = _MISSING, *,
                choices: Sequence[str] | None = None) -> Any:  # fmt: skip
         """A string, one of ``choices`` if given."""
-        value, where, _ = self._take(key, angles=False)
+        value, where, _ = self._take(key, default, expected=", expected a string")
         if value is _MISSING:
-            if default is _MISSING:
-                raise ScenarioError(f"{where}: required, expected a string")
             return default
         if not isinstance(value, str):
             raise ScenarioError(f"{where}: expected a string, got {_describe(value)}")
@@ -134,7 +139,7 @@ class Table:
 
     def boolean(self, key: str, default: bool) -> bool:
         """``true`` or ``false``."""
-        value, where, _ = self._take(key, angles=False)
+        value, where, _ = self._take(key, default)
         if value is _MISSING:
             return default
         if not isinstance(value, bool):
@@ -143,10 +148,10 @@ class Table:
 
     def table(self, key: str, *, required: bool = False) -> Table | None:
         """A sub-table, or None when absent and not required."""
-        value, where, _ = self._take(key, angles=False)
+        value, where, _ = self._take(
+            key, _MISSING if required else None, expected=" table is missing"
+        )
         if value is _MISSING:
-            if required:
-                raise ScenarioError(f"{where}: required table is missing")
             return None
         if not isinstance(value, Mapping):
             raise ScenarioError(f"{where}: expected a table, got {_describe(value)}")
@@ -154,9 +159,7 @@ class Table:
 
     def tables(self, key: str) -> list[Table]:
         """An array of tables (``[[key]]``)."""
-        value, where, _ = self._take(key, angles=False)
-        if value is _MISSING:
-            raise ScenarioError(f"{where}: required, expected an array of tables")
+        value, where, _ = self._take(key, _MISSING, expected=", expected an array of tables")
         if not isinstance(value, list) or not value:
             raise ScenarioError(f"{where}: expected a non-empty array of tables, got "
                                 f"{_describe(value)}")  # fmt: skip

@@ -19,7 +19,7 @@ open-loop ones, the control columns it sends for the plan's desired states:
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -38,30 +38,39 @@ __all__ = [
 ]
 
 
-def _gains(name: str, value: Any, ndof: int, unit: str) -> FloatArray:
-    return joint_parameter(name, value, ndof, unit, zero_ok=True)
-
-
 @dataclass(frozen=True)
-class PositionServo:
-    """PD position servo: ``τ = kp (q_d − q) − kv q̇`` (N·m/rad, N·m·s/rad).
+class _GainController:
+    """A controller with gains ``kp`` (N·m/rad) and ``kv`` (N·m·s/rad) on every joint.
 
-    The defaults are the gains of Gazebo's RRBot position controllers (p 100, d 10).
+    Subclasses list in ``_ACTUATORS`` the MuJoCo actuators they put on each joint,
+    in order: the actuator kind and which of the two gains it takes.
     """
 
     kp: Any = 100.0
     kv: Any = 10.0
-    name: str = "position servo"
+
+    _ACTUATORS: ClassVar[tuple[tuple[str, tuple[str, ...]], ...]] = ()
 
     def actuators(self, ndof: int) -> list[Actuator]:
-        """One MuJoCo position actuator per joint."""
-        return [
-            Actuator(
-                "position",
-                _gains("kp", self.kp, ndof, "N·m/rad"),
-                _gains("kv", self.kv, ndof, "N·m·s/rad"),
-            )
-        ]
+        """The actuators of ``_ACTUATORS``, with the gains checked for ``ndof`` joints."""
+        gains = {
+            "kp": joint_parameter("kp", self.kp, ndof, "N·m/rad", zero_ok=True),
+            "kv": joint_parameter("kv", self.kv, ndof, "N·m·s/rad", zero_ok=True),
+        }
+        return [Actuator(kind, **{g: gains[g] for g in uses}) for kind, uses in self._ACTUATORS]
+
+
+@dataclass(frozen=True)
+class PositionServo(_GainController):
+    """PD position servo: ``τ = kp (q_d − q) − kv q̇`` (N·m/rad, N·m·s/rad).
+
+    The defaults are the gains of Gazebo's RRBot position controllers (p 100, d 10).
+    One MuJoCo position actuator per joint.
+    """
+
+    name: str = "position servo"
+
+    _ACTUATORS = (("position", ("kp", "kv")),)
 
     def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:
         """The control columns for desired states (one row per control time)."""
@@ -69,39 +78,30 @@ class PositionServo:
 
 
 @dataclass(frozen=True)
-class VelocityServo:
-    """Velocity command ``u = q̇_d``: ``τ = kp (∫u dt − q) + kv (u − q̇)``."""
+class VelocityServo(_GainController):
+    """Velocity command ``u = q̇_d``: ``τ = kp (∫u dt − q) + kv (u − q̇)``.
 
-    kp: Any = 100.0
-    kv: Any = 10.0
+    An integrated-velocity (position loop) and a velocity actuator per joint.
+    """
+
     name: str = "velocity servo"
 
-    def actuators(self, ndof: int) -> list[Actuator]:
-        """An integrated-velocity (position loop) and a velocity actuator per joint."""
-        return [
-            Actuator("intvelocity", kp=_gains("kp", self.kp, ndof, "N·m/rad")),
-            Actuator("velocity", kv=_gains("kv", self.kv, ndof, "N·m·s/rad")),
-        ]
+    _ACTUATORS = (("intvelocity", ("kp",)), ("velocity", ("kv",)))
 
     def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:  # noqa: D102
         return np.concatenate([qd, qd], axis=1)
 
 
 @dataclass(frozen=True)
-class PDFeedforward:
-    """Inverse-dynamics feed-forward plus PD: ``τ = τ_ID(q_d, q̇_d, q̈_d) + kp e + kv ė``."""
+class PDFeedforward(_GainController):
+    """Inverse-dynamics feed-forward plus PD: ``τ = τ_ID(q_d, q̇_d, q̈_d) + kp e + kv ė``.
 
-    kp: Any = 100.0
-    kv: Any = 10.0
+    A motor, a position and a velocity actuator per joint.
+    """
+
     name: str = "PD + feed-forward"
 
-    def actuators(self, ndof: int) -> list[Actuator]:
-        """A motor, a position and a velocity actuator per joint."""
-        return [
-            Actuator("motor"),
-            Actuator("position", kp=_gains("kp", self.kp, ndof, "N·m/rad")),
-            Actuator("velocity", kv=_gains("kv", self.kv, ndof, "N·m·s/rad")),
-        ]
+    _ACTUATORS = (("motor", ()), ("position", ("kp",)), ("velocity", ("kv",)))
 
     def inputs(self, q: FloatArray, qd: FloatArray, torque: FloatArray | None) -> FloatArray:  # noqa: D102
         return np.concatenate([torque, q, qd], axis=1)

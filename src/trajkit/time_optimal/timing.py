@@ -28,6 +28,10 @@ __all__ = [
     "timed",
 ]
 
+#: Per interval and joint, shape (N, ndof): the least and the greatest joint velocity,
+#: then the least and the greatest acceleration.
+_Extremes = tuple[tuple[FloatArray, FloatArray], tuple[FloatArray, FloatArray]]
+
 
 class GeometricPath(Protocol):
     """What :func:`~trajkit.time_optimal.topp` needs of a path that is not a Trajectory.
@@ -216,28 +220,29 @@ def interval_peaks(
     ratio_v, ratio_a : ndarray, shape (N,)
         Per interval, the largest value-to-bound ratio (1 at the bound).
     """
-    if path.degree <= 3:
-        return _cubic_peaks(path, s, x, velocity, acceleration)
+    extremes = _cubic_extremes(path, s, x) if path.degree <= 3 else _timed_extremes(path, s, x)
+    ratios = [
+        np.maximum(high / upper, low / lower).max(axis=1)
+        for (low, high), (lower, upper) in zip(extremes, (velocity, acceleration), strict=True)
+    ]
+    return ratios[0], ratios[1]
+
+
+def _timed_extremes(path: Trajectory, s: FloatArray, x: FloatArray) -> _Extremes:
+    """The timed path's least and greatest velocity and acceleration, from its polynomials."""
     curve = timed(path, s, x)
     lengths = np.diff(curve.breakpoints)
-    out = []
-    for order, (lower, upper) in ((1, velocity), (2, acceleration)):
+    extremes = []
+    for order in (1, 2):
         c = curve._coefficients_of(order)
         k1, m, ndof = c.shape
         low, _, high, _ = _poly.extrema_on_intervals(c.reshape(k1, m * ndof),
                                                      np.repeat(lengths, ndof))  # fmt: skip
-        ratio = np.maximum(high.reshape(m, ndof) / upper, low.reshape(m, ndof) / lower)
-        out.append(ratio.max(axis=1))
-    return out[0], out[1]
+        extremes.append((low.reshape(m, ndof), high.reshape(m, ndof)))
+    return extremes[0], extremes[1]
 
 
-def _cubic_peaks(
-    path: Trajectory,
-    s: FloatArray,
-    x: FloatArray,
-    velocity: tuple[FloatArray, FloatArray],
-    acceleration: tuple[FloatArray, FloatArray],
-) -> tuple[FloatArray, FloatArray]:
+def _cubic_extremes(path: Trajectory, s: FloatArray, x: FloatArray) -> _Extremes:
     """Closed forms on a path of degree <= 3, without building the timed polynomials.
 
     On an interval ``x`` is linear in ``s``, so ``q̈ = q'' x + q' s̈`` is a quadratic
@@ -275,6 +280,4 @@ def _cubic_peaks(
                       for t in (zero, width, np.clip(vertex, 0, width))])  # fmt: skip
     where = np.stack([np.clip(root1, 0, width), np.clip(root2, 0, width), zero, width])
     speed = (d0 + d1 * where + d2 * where**2) * np.sqrt(np.maximum(xi + 2 * ui * where, 0.0))
-    ratio_v = np.maximum(speed.max(axis=0) / velocity[1], speed.min(axis=0) / velocity[0])
-    ratio_a = np.maximum(accel.max(axis=0) / acceleration[1], accel.min(axis=0) / acceleration[0])
-    return ratio_v.max(axis=1), ratio_a.max(axis=1)
+    return (speed.min(axis=0), speed.max(axis=0)), (accel.min(axis=0), accel.max(axis=0))

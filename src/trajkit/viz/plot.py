@@ -143,8 +143,7 @@ def profiles(
     positive_scalar("width", width)
     positive_scalar("panel_height", panel_height)
 
-    figure = Figure(figsize=(width, panel_height * len(panels)), layout="constrained")
-    axes = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    figure, axes = _stacked(width, panel_height * len(panels), len(panels))
     colors = [f"C{j % 10}" for j in range(ndof)]
     for ax, order in zip(axes, panels, strict=True):
         shown = values[order] * scale
@@ -161,6 +160,21 @@ def profiles(
     if title:
         figure.suptitle(title)
     return figure
+
+
+def _stacked(width: float, height: float, count: int) -> tuple[Figure, np.ndarray]:
+    """A figure of ``width`` by ``height`` inches and its ``count`` panels sharing x."""
+    figure = Figure(figsize=(width, height), layout="constrained")
+    return figure, figure.subplots(count, 1, sharex=True, squeeze=False)[:, 0]
+
+
+def _label_time_panels(axes: np.ndarray, ylabels: Sequence[str], loc: str, columns: int) -> None:
+    """Label each panel, grid it, give it a legend; the bottom one's x axis is time."""
+    for ax, label in zip(axes, ylabels, strict=True):
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc=loc, fontsize="small", ncols=columns)
+    axes[-1].set_xlabel("time [s]")
 
 
 def _draw_bounds(ax, lower: np.ndarray, upper: np.ndarray, colors: list[str]) -> None:
@@ -197,6 +211,7 @@ def arm(
     view : {"3d", "xy", "xz", "yz"}
         A 3-D view, or the projection onto two world axes.
     title : str, optional
+        Axes title; default the robot's name, the number of poses and their time span.
     size : float
         Figure width and height (inches).
 
@@ -257,6 +272,7 @@ def task_space(
     unit : str
         The path's length unit, for the labels (m by default; "cm" for seed 003).
     title : str, optional
+        Title of the top panel; default "task space" and the duration.
     width : float
         Figure width (inches).
 
@@ -275,17 +291,14 @@ def task_space(
     ]
     if state.angular_velocity is not None:
         panels.append(("angular velocity", state.angular_velocity, "rad/s"))
-    figure = Figure(figsize=(width, 2.2 * len(panels)), layout="constrained")
-    axes = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
-    for ax, (name, values, label_unit) in zip(axes, panels, strict=True):
+    figure, axes = _stacked(width, 2.2 * len(panels), len(panels))
+    for ax, (name, values, _) in zip(axes, panels, strict=True):
         for k, axis_name in enumerate("xyz"):
             ax.plot(times, values[:, k], label=axis_name)
         if name != "position":
             ax.plot(times, np.linalg.norm(values, axis=1), "k--", lw=1, label="magnitude")
-        ax.set_ylabel(f"{name} [{label_unit}]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper right", fontsize="small", ncol=4)
-    axes[-1].set_xlabel("time [s]")
+    ylabels = [f"{name} [{label_unit}]" for name, _, label_unit in panels]
+    _label_time_panels(axes, ylabels, "upper right", 4)
     axes[0].set_title(title or f"task space, {task.duration:.6g} s")
     return figure
 
@@ -322,6 +335,7 @@ def mobile(
     ----------
     data : MobileTrajectory or SimulationLog
     title : str, optional
+        Figure title (none by default).
     width : float
         Figure width (inches).
 
@@ -333,8 +347,7 @@ def mobile(
 
     times, desired, actual = _mobile_series(data)
     positive_scalar("width", width)
-    figure = Figure(figsize=(width, 8.8), layout="constrained")
-    axes = figure.subplots(4, 1, sharex=True)
+    figure, axes = _stacked(width, 8.8, 4)
 
     runs = [("planned", desired, "--" if actual is not None else "-")]
     if actual is not None:
@@ -347,15 +360,8 @@ def mobile(
         axes[2].plot(times, series["pose"][:, 0], style, color="C0", label=f"x {label}")
         axes[2].plot(times, series["pose"][:, 1], style, color="C1", label=f"y {label}")
         axes[3].plot(times, series["pose"][:, 2], style, color="C3", label=f"θ {label}")
-    for ax, name in zip(
-        axes,
-        ("linear velocity [m/s]", "angular velocity [rad/s]", "position [m]", "heading [rad]"),
-        strict=True,
-    ):
-        ax.set_ylabel(name)
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="best", fontsize="small", ncols=2)
-    axes[-1].set_xlabel("time [s]")
+    ylabels = ("linear velocity [m/s]", "angular velocity [rad/s]", "position [m]", "heading [rad]")
+    _label_time_panels(axes, ylabels, "best", 2)
     if title:
         figure.suptitle(title)
     return figure
@@ -377,6 +383,7 @@ def mobile_path(
         How many times to draw the robot (a triangle pointing along its
         heading), evenly spaced in time (>= 0).
     title : str, optional
+        Axes title; default "path" and the end time.
     size : float
         Figure width and height (inches).
 
@@ -431,6 +438,7 @@ def tracking(
     degrees : bool
         Angles in degrees (else radians).
     title : str, optional
+        Title of the top panel; default the controller's name.
     width : float
         Figure width (inches).
 
@@ -445,8 +453,7 @@ def tracking(
     if not isinstance(log, ArmLog):
         raise InvalidInputError(f"log must be a trajkit.sim.ArmLog, got {type(log).__name__}")
     positive_scalar("width", width)
-    figure = Figure(figsize=(width, 7.2), layout="constrained")
-    axes = figure.subplots(3, 1, sharex=True)
+    figure, axes = _stacked(width, 7.2, 3)
     units: set[str] = set()
     efforts: set[str] = set()
     for j, name in enumerate(log.joint_names):
@@ -462,12 +469,8 @@ def tracking(
         axes[1].plot(log.t, log.error[:, j] * scale, color=color, label=name)
         axes[2].plot(log.t, log.efforts[:, j], color=color, label=name)
     unit, effort = " | ".join(sorted(units)), " | ".join(sorted(efforts))
-    for ax, label in zip(axes, (f"position [{unit}]", f"error q − q_d [{unit}]",
-                                f"effort [{effort}]"), strict=True):  # fmt: skip
-        ax.set_ylabel(label)
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="best", fontsize="small", ncols=2)
-    axes[-1].set_xlabel("time [s]")
+    ylabels = (f"position [{unit}]", f"error q − q_d [{unit}]", f"effort [{effort}]")
+    _label_time_panels(axes, ylabels, "best", 2)
     axes[0].set_title(title or f"{log.controller}: desired against actual")
     return figure
 
