@@ -34,6 +34,7 @@ from trajkit.curve import Curve, check_order
 from trajkit.errors import InvalidInputError, TrajkitError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import engine, limited
+from trajkit.profiles._docstrings import with_sections
 from trajkit.profiles._phases import PhasePlan
 from trajkit.profiles.velocity import velocity_room
 from trajkit.renamed import renamed_keywords
@@ -301,19 +302,7 @@ _assemble: Any = None
 def _explain(planner: str, m: FloatArray, i: int) -> None:
     """Raise the single-problem validators' error for problem ``i``, naming it."""
     try:
-        limited.read_problem(
-            planner,
-            m[0],
-            m[1],
-            (m[6], m[7]),
-            (m[8], m[9]),
-            m[10],
-            v0=m[2],
-            vf=m[3],
-            a0=m[4],
-            af=m[5],
-            sync="time",
-        )
+        limited.read_matrix(planner, m)
     except TrajkitError as error:
         raise type(error)(f"problem {i}: {error}") from None
     raise AssertionError(f"problem {i} refused by the fast check but not by the validators")
@@ -372,6 +361,7 @@ def _common_info(planner: str, result: engine.EngineResult, names: tuple, step: 
 
 
 @renamed_keywords(dt="period")
+@with_sections
 def trapezoidal(
     q0: ArrayLike,
     qf: ArrayLike,
@@ -387,12 +377,10 @@ def trapezoidal(
 ) -> BatchTrajectory:
     """Time-optimal trapezoid profiles for ``B`` problems at once.
 
-    Same meaning as :func:`trajkit.trapezoidal` (limit mode), with every argument
-    of shape ``(B, ndof)`` or broadcastable to it (limits may be per joint
-    ``(ndof,)``, per problem, or a ``(lower, upper)`` tuple of such arrays);
-    ``min_duration`` one number or one per problem; with ``period``, ``grid`` puts
-    every switching time (``"switches"``) or only the duration (``"duration"``)
-    on the period grid.
+    Same meaning as :func:`trajkit.trapezoidal` (limit mode).
+    {batch_arguments}
+    With ``period``, ``grid`` puts every switching time (``"switches"``) or only the
+    duration (``"duration"``) on the period grid.
 
     Returns
     -------
@@ -425,6 +413,7 @@ def trapezoidal(
 
 
 @renamed_keywords(dt="period")
+@with_sections
 def scurve(
     q0: ArrayLike,
     qf: ArrayLike,
@@ -443,10 +432,9 @@ def scurve(
 ) -> BatchTrajectory:
     """Time-optimal jerk-limited profiles for ``B`` problems at once, state to state.
 
-    Same meaning as :func:`trajkit.scurve`, with every argument of shape
-    ``(B, ndof)`` or broadcastable to it (limits may be per joint, per problem, or
-    ``(lower, upper)`` tuples of such arrays); ``min_duration`` one number or one
-    per problem; ``grid`` as in :func:`trapezoidal`.
+    Same meaning as :func:`trajkit.scurve`.
+    {batch_arguments}
+    ``grid`` as in :func:`trapezoidal`.
 
     Returns
     -------
@@ -462,6 +450,7 @@ def scurve(
 
 
 @renamed_keywords(dt="period")
+@with_sections
 def velocity_change(
     v0: ArrayLike,
     vf: ArrayLike,
@@ -478,11 +467,10 @@ def velocity_change(
 ) -> BatchTrajectory:
     """Time-optimal changes of velocity for ``B`` problems at once, no position target.
 
-    Same meaning as :func:`trajkit.velocity_change`, with every argument of shape
-    ``(B, ndof)`` or broadcastable to it (limits per joint, per problem, or
-    ``(lower, upper)`` tuples of such arrays); ``min_duration`` one number or one
-    per problem. The velocity law puts only the duration on a period grid: with
-    ``period``, pass ``grid="duration"``.
+    Same meaning as :func:`trajkit.velocity_change`.
+    {batch_arguments}
+    The velocity law puts only the duration on a period grid: with ``period``, pass
+    ``grid="duration"``.
 
     Returns
     -------

@@ -35,6 +35,7 @@ from trajkit._validation import FloatArray, joint_vector, positive_scalar
 from trajkit.errors import InvalidInputError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import engine, limited
+from trajkit.profiles._docstrings import with_sections
 from trajkit.renamed import renamed_keywords
 
 __all__ = ["Generator", "OnlineState"]
@@ -48,6 +49,7 @@ class OnlineState(NamedTuple):
     acceleration: FloatArray
 
 
+@with_sections
 class Generator:
     """Plans from the current state to the target when it changes; returns the next state.
 
@@ -57,9 +59,7 @@ class Generator:
         Number of joints.
     period : float
         Control period (s).
-    vmax, amax : float, sequence or tuple
-        Velocity (rad/s) and acceleration (rad/s^2) limits, symmetric or
-        ``(lower, upper)``.
+    {limits}
     jmax : float or sequence
         Jerk limit (rad/s^3); ``inf`` for acceleration-limited motion.
     position, velocity, acceleration : array_like, optional
@@ -205,9 +205,5 @@ class Generator:
         return self._state, self.duration <= self.period
 
     def _explain(self) -> None:
-        m = self._m
-        limited.read_problem(
-            "online", m[0], m[1], (m[6], m[7]), (m[8], m[9]), m[10], v0=m[2], vf=m[3],
-            a0=m[4], af=m[5], sync="time",
-        )  # fmt: skip
-        raise InvalidInputError(f"online: target {m[1].tolist()} is not admissible")
+        limited.read_matrix("online", self._m)
+        raise InvalidInputError(f"online: target {self._m[1].tolist()} is not admissible")

@@ -35,6 +35,7 @@ from trajkit.trajectory import Trajectory
 __all__ = [
     "Problem",
     "quick_trajectory",
+    "read_matrix",
     "read_problem",
     "read_sync",
     "solve",
@@ -422,6 +423,28 @@ def read_problem(
         scale = np.abs(distance) / speed + (speed + np.abs(problem.v0) + np.abs(problem.vf)) / push
     finite_result(planner, scale, {"vmax": vmax, "amax": amax, "v0": v0, "vf": vf})
     return problem
+
+
+def read_matrix(planner: str, m: FloatArray) -> Problem:
+    """Validate a problem given as the engine reads it, ``(11, ndof)`` (rows as :class:`Problem`).
+
+    Where the compiled check refused a matrix, this names what is wrong in it
+    (time-synchronized), as :func:`read_problem` does for the same arguments.
+    """
+    row = dict(zip(_ROWS, m, strict=True))
+    return read_problem(
+        planner,
+        row["q0"],
+        row["qf"],
+        (row["v_min"], row["v_max"]),
+        (row["a_min"], row["a_max"]),
+        row["j_max"],
+        v0=row["v0"],
+        vf=row["vf"],
+        a0=row["a0"],
+        af=row["af"],
+        sync="time",
+    )
 
 
 def solve(

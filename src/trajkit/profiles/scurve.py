@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike
 
 from trajkit.limits import LimitSpec
 from trajkit.profiles import limited
+from trajkit.profiles._docstrings import with_sections
 from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import Trajectory
 
@@ -17,6 +18,7 @@ __all__ = ["scurve"]
 
 
 @renamed_keywords(dt="period")
+@with_sections
 def scurve(
     q0: ArrayLike,
     qf: ArrayLike,
@@ -44,12 +46,8 @@ def scurve(
 
     Parameters
     ----------
-    q0, qf : float or array_like, shape (ndof,)
-        Start and target positions (rad, or m).
-    vmax, amax : float, sequence or tuple
-        Velocity (rad/s) and acceleration (rad/s^2) limits: a number or one per
-        joint for symmetric limits, a tuple ``(lower, upper)`` for asymmetric ones
-        (``lower < 0 < upper``).
+    {positions}
+    {limits}
     jmax : float or array_like
         Jerk limit (rad/s^3), > 0; ``inf`` plans acceleration-limited (trapezoidal)
         profiles, whose acceleration jumps (``a0``, ``af`` must then be 0).
@@ -76,12 +74,7 @@ def scurve(
         Controller period (s); see ``grid``. Every switch on the grid costs at most
         3 periods over the continuous optimum rest to rest (measured worst: 2.27),
         more for moving boundaries and brakes.
-    grid : {"switches", "duration"}
-        With ``period``: ``"switches"`` puts every switching time (each phase a whole
-        number of periods) and the duration on the grid, re-timing the phases so
-        the target is still reached exactly within every limit; ``"duration"``
-        only the duration (ruckig's discrete durations: every synchronized joint
-        re-planned to take it).
+    {grid}
 
     Returns
     -------
@@ -95,9 +88,7 @@ def scurve(
 
     Raises
     ------
-    InvalidInputError
-        NaN/inf, wrong shapes, limits that do not allow motion both ways,
-        ``jmax <= 0``, an unknown sync mode.
+    {jerk_limited_invalid}
     InfeasibleError
         A target beyond the limits, a duration below the minimum or one a joint
         cannot take exactly.

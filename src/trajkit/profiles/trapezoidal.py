@@ -15,6 +15,7 @@ from trajkit._validation import finite_array, flag, joint_vector, positive_scala
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import limited
+from trajkit.profiles._docstrings import with_sections
 from trajkit.profiles._phases import PhasePlan, plan_to_trajectory
 from trajkit.renamed import renamed_keywords
 from trajkit.tolerances import ROUNDING_RTOL
@@ -26,6 +27,7 @@ _MAX_EXTRA_PERIODS = 16
 
 
 @renamed_keywords(dt="period")
+@with_sections
 def trapezoidal(
     q0: ArrayLike,
     qf: ArrayLike,
@@ -60,11 +62,8 @@ def trapezoidal(
 
     Parameters
     ----------
-    q0, qf : float or array_like, shape (ndof,)
-        Start and end positions (rad, or m).
-    vmax, amax : float, sequence or tuple
-        Velocity (rad/s) and acceleration (rad/s^2) limits: a number or one per
-        joint for symmetric limits, a tuple ``(lower, upper)`` for asymmetric ones.
+    {positions}
+    {limits}
     duration : float, optional
         Exact duration (s) for every synchronized joint.
     min_duration : float, optional
@@ -90,12 +89,7 @@ def trapezoidal(
     period : float, optional
         Controller period (s); see ``grid`` (at rest, every switch on the grid costs
         at most 2 periods over the continuous optimum).
-    grid : {"switches", "duration"}
-        With ``period``: ``"switches"`` puts every switching time (each phase a whole
-        number of periods) and the duration on the grid, re-timing the phases so
-        the target is still reached exactly within every limit; ``"duration"``
-        only the duration (ruckig's discrete durations: every synchronized joint
-        re-planned to take it).
+    {grid}
     allow_overshoot : bool
         With ``False``, raise :class:`InfeasibleError` when the fastest profile
         leaves the interval between ``q0`` and ``qf`` (a boundary velocity that

@@ -15,6 +15,7 @@ from trajkit._validation import FloatArray, count_dof, joint_vector
 from trajkit.errors import InfeasibleError
 from trajkit.limits import LimitSpec
 from trajkit.profiles import limited
+from trajkit.profiles._docstrings import with_sections
 from trajkit.renamed import renamed_keywords
 from trajkit.trajectory import Trajectory
 
@@ -22,6 +23,7 @@ __all__ = ["velocity_change", "velocity_room"]
 
 
 @renamed_keywords(dt="period")
+@with_sections
 def velocity_change(
     v0: ArrayLike,
     vf: ArrayLike,
@@ -72,9 +74,7 @@ def velocity_change(
 
     Raises
     ------
-    InvalidInputError
-        NaN/inf, wrong shapes, limits that do not allow motion both ways,
-        ``jmax <= 0``, an unknown sync mode.
+    {jerk_limited_invalid}
     InfeasibleError
         ``af`` beyond the acceleration limit, a duration below the minimum or one
         a joint cannot take exactly.
