@@ -1,4 +1,4 @@
-"""Robot arms: serial chains (DH tables, URDF), forward and inverse kinematics, Jacobians.
+"""Robot arms: serial chains (DH tables, URDF), kinematics, Jacobians, IK and dynamics.
 
 Examples
 --------
@@ -10,17 +10,21 @@ Examples
 
 from trajkit.kinematics.chain import DHRow, Joint, SerialChain
 from trajkit.kinematics.drawing import link_positions
+from trajkit.kinematics.dynamics import STANDARD_GRAVITY, inertials_from_dh, inverse_dynamics
 from trajkit.kinematics.ik import IKSolution
+from trajkit.kinematics.inertials import Inertials
 from trajkit.kinematics.physical import Physical
 from trajkit.kinematics.robots import BUILTIN, UR5, AnalyticChain, Planar2R, RRBot, Spatial3R
 from trajkit.kinematics.urdf import from_urdf
 
 __all__ = [
     "BUILTIN",
+    "STANDARD_GRAVITY",
     "UR5",
     "AnalyticChain",
     "DHRow",
     "IKSolution",
+    "Inertials",
     "Joint",
     "Physical",
     "Planar2R",
@@ -28,5 +32,7 @@ __all__ = [
     "SerialChain",
     "Spatial3R",
     "from_urdf",
+    "inertials_from_dh",
+    "inverse_dynamics",
     "link_positions",
 ]

@@ -10,7 +10,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
 from numpy.typing import ArrayLike
+
+from trajkit._validation import finite_array
+from trajkit.errors import InvalidInputError
+from trajkit.kinematics.inertials import Inertials
 
 __all__ = ["Physical"]
 
@@ -31,6 +36,11 @@ class Physical:
         Rotor inertia reflected through the gearbox (kg·m²).
     effort_limit : float or array_like, optional
         Largest actuator torque (N·m) or force (N) per joint.
+    center_of_mass : array_like, shape (ndof, 3), optional
+        Each link's centre of mass in its own frame, the frame of the joint that
+        moves it after the motion (m).
+    inertia : array_like, shape (ndof, 3, 3), optional
+        Each link's inertia tensor about its centre of mass, in its own frame (kg·m²).
     source : str
         Where the values come from, in a few words.
 
@@ -43,4 +53,27 @@ class Physical:
     damping: ArrayLike | None = None
     armature: ArrayLike | None = None
     effort_limit: ArrayLike | None = None
+    center_of_mass: ArrayLike | None = None
+    inertia: ArrayLike | None = None
     source: str = ""
+
+    def inertials(self, ndof: int) -> Inertials:
+        """The links' mass distribution for dynamics, or a refusal naming what is missing.
+
+        A scalar ``link_mass`` is every link's mass.
+        """
+        missing = [
+            name
+            for name in ("link_mass", "center_of_mass", "inertia")
+            if getattr(self, name) is None
+        ]
+        if missing:
+            raise InvalidInputError(
+                f"no {', '.join(missing)} in the arm's physical data "
+                f"({self.source or 'no source'}): dynamics needs each link's mass, centre of "
+                "mass and inertia"
+            )
+        mass = finite_array("link_mass", self.link_mass, unit="kg")
+        if mass.ndim == 0:
+            mass = np.full(ndof, float(mass))
+        return Inertials(mass, self.center_of_mass, self.inertia)
