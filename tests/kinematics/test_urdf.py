@@ -790,3 +790,121 @@ def test_parser_backstop_refuses_dtd(monkeypatch: pytest.MonkeyPatch, text: str)
     monkeypatch.setattr(urdf_module, "_has_declaration", lambda data: False)
     error = raises_invalid("DTD/entity declarations are not allowed", text)
     _assert_no_leak(error)
+
+
+# ------------------------------------------------------------------- inertials
+ENTRIES = [("x", "x", 0, 0), ("x", "y", 0, 1), ("x", "z", 0, 2), ("y", "y", 1, 1),
+           ("y", "z", 1, 2), ("z", "z", 2, 2)]  # fmt: skip
+
+
+def inertial_urdf(seed: int) -> str:
+    """A spatial R-P-R arm whose links carry rotated, offset inertials; the last has a
+    tool link fixed to it with its own mass (lumped into the link the joint moves)."""
+    rng = np.random.default_rng(seed)
+
+    def inertial() -> str:
+        a, b = rng.uniform(0.01, 0.2, 2)
+        c = rng.uniform(abs(a - b) + 1e-3, a + b)
+        axes = rot_z(rng.uniform(-3, 3)) @ rot_y(rng.uniform(-1.5, 1.5)) @ rot_x(rng.uniform(-3, 3))
+        t = axes @ np.diag([a, b, c]) @ axes.T
+        xyz = " ".join(f"{v:.6f}" for v in rng.uniform(-0.2, 0.2, 3))
+        rpy = " ".join(f"{v:.6f}" for v in rng.uniform(-1, 1, 3))
+        return (
+            f'<inertial><origin xyz="{xyz}" rpy="{rpy}"/><mass value="{rng.uniform(0.5, 4):.6f}"/>'
+            "<inertia "
+            + " ".join(f'i{u}{v}="{float(t[i, j])!r}"' for u, v, i, j in ENTRIES)
+            + "/></inertial>"
+        )
+
+    return f"""<robot name="rpr">
+  <link name="base"/>
+  <link name="l1">{inertial()}</link>
+  <link name="l2">{inertial()}</link>
+  <link name="l3">{inertial()}</link>
+  <link name="tool">{inertial()}</link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.3" rpy="0.1 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" velocity="2" effort="80"/></joint>
+  <joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0.2 0.05 0.1" rpy="0 0.7 0"/><axis xyz="0.6 0 0.8"/>
+    <limit lower="-0.5" upper="0.5" velocity="1" effort="200"/></joint>
+  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0.3 0 0" rpy="0 0 0.4"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" velocity="2" effort="40"/></joint>
+  <joint name="flange" type="fixed"><parent link="l3"/><child link="tool"/>
+    <origin xyz="0.1 0.02 0" rpy="0.3 0.2 0.1"/></joint>
+</robot>"""
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_urdf_inertials_give_mujocos_inverse_dynamics(seed):
+    """MuJoCo reads the same file with its own URDF importer; mj_inverse is the oracle."""
+    mujoco = pytest.importorskip(
+        "mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'"
+    )
+    from trajkit.kinematics import inverse_dynamics
+
+    text = inertial_urdf(seed)
+    arm = from_urdf(text)
+    np.testing.assert_array_equal(arm.physical.effort_limit, [80.0, 200.0, 40.0])
+    model = mujoco.MjModel.from_xml_string(text)
+    data = mujoco.MjData(model)
+    rng = np.random.default_rng(seed + 100)
+    # Inside the joint ranges: beyond them MuJoCo adds the limits' constraint forces.
+    q = rng.uniform(-1.0, 1.0, (20, 3)) * [2.9, 0.49, 2.9]
+    qd, qdd = rng.normal(size=(2, 20, 3))
+    ours = inverse_dynamics(arm, q, qd, qdd, gravity=model.opt.gravity)
+    for k in range(20):
+        data.qpos[:], data.qvel[:], data.qacc[:] = q[k], qd[k], qdd[k]
+        mujoco.mj_inverse(model, data)
+        scale = max(1.0, np.abs(data.qfrc_inverse).max())
+        # MuJoCo stores the inertias it read as principal moments in float64 after an
+        # eigendecomposition: rounding only.
+        np.testing.assert_allclose(ours[k], data.qfrc_inverse, rtol=0, atol=1e-9 * scale)
+
+
+def test_a_fixed_links_mass_is_lumped_into_the_link_it_is_fixed_to():
+    text = """<robot name="lump">
+      <link name="base"/>
+      <link name="arm"><inertial><mass value="2"/>
+        <inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial></link>
+      <link name="weight"><inertial><origin xyz="0.5 0 0"/><mass value="2"/>
+        <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+      <joint name="q" type="continuous"><parent link="base"/><child link="arm"/>
+        <axis xyz="0 0 1"/></joint>
+      <joint name="bolt" type="fixed"><parent link="arm"/><child link="weight"/>
+        <origin xyz="0.5 0 0"/></joint>
+    </robot>"""
+    physical = from_urdf(text).physical
+    np.testing.assert_array_equal(physical.link_mass, [4.0])
+    np.testing.assert_allclose(physical.center_of_mass, [[0.5, 0.0, 0.0]], rtol=0, atol=1e-15)
+    # Two 2 kg points 1 m apart about their middle: 2 * 2 * 0.5² about y and z.
+    np.testing.assert_allclose(physical.inertia, [np.diag([0.1, 1.1, 1.1])], rtol=0, atol=1e-15)
+    assert physical.effort_limit is None  # a continuous joint without <limit>
+
+
+def test_a_urdf_without_inertials_refuses_dynamics_by_name():
+    from trajkit.kinematics import inverse_dynamics
+
+    arm = from_urdf(TWO_LINK)
+    np.testing.assert_array_equal(arm.physical.effort_limit, [30.0, 20.0])
+    with pytest.raises(InvalidInputError, match=r"no link_mass, center_of_mass, inertia"):
+        inverse_dynamics(arm, [0.0, 0.0], [0.0, 0.0], [0.0, 0.0])
+
+
+@pytest.mark.parametrize(
+    ("inertial", "message"),
+    [
+        ('<mass value="-1"/>', r"link 'arm' <inertial>: mass must be a finite number >= 0 kg"),
+        ('<mass value="nan"/>', r"link 'arm' <inertial>: mass must be a finite number"),
+        ('<mass value="1"/><inertia ixx="inf" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>',
+         r"link 'arm' <inertial>: origin and inertia must be finite"),
+    ],
+)  # fmt: skip
+def test_bad_inertials_are_refused_naming_the_link(inertial, message):
+    text = f"""<robot name="bad">
+      <link name="base"/><link name="arm"><inertial>{inertial}</inertial></link>
+      <joint name="q" type="continuous"><parent link="base"/><child link="arm"/></joint>
+    </robot>"""
+    with pytest.raises(InvalidInputError, match=message):
+        from_urdf(text)

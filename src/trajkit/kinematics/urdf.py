@@ -3,8 +3,9 @@
 :func:`from_urdf` reads a URDF file (or its XML text) with the optional
 dependency `yourdfpy <https://github.com/clemense/yourdfpy>`_ and extracts the
 kinematic path between two links as a :class:`~trajkit.kinematics.SerialChain`.
-Only the kinematics are read: meshes, inertias and collision geometry are
-ignored and no mesh file is opened.
+The kinematics, the joints' effort limits and the links' ``<inertial>`` elements
+are read (for :func:`~trajkit.kinematics.inverse_dynamics`); meshes and collision
+geometry are ignored and no mesh file is opened.
 
 Files are treated as untrusted: documents that declare a DTD or entities are
 refused before any parser sees them, so no external entity or DTD is ever
@@ -41,6 +42,7 @@ from numpy.typing import NDArray
 
 from trajkit.errors import InvalidInputError, MissingDependencyError
 from trajkit.kinematics.chain import Joint, SerialChain
+from trajkit.kinematics.physical import Physical
 from trajkit.rotations import homogeneous, rpy_matrix
 
 if TYPE_CHECKING:
@@ -102,7 +104,11 @@ def from_urdf(
         Joint origins and tool transform in metres, joint positions in rad
         (revolute) or m (prismatic), speed limits in rad/s or m/s. Limits come
         from each joint's ``<limit>``; a ``velocity`` of 0 or none means no
-        speed limit (``inf``).
+        speed limit (``inf``). Its ``physical`` (when the file gives them) holds
+        each joint's ``effort`` limit (N·m or N) and the mass, centre of mass and
+        inertia of what each joint moves: its child link and every link fixed to
+        it (a link without ``<inertial>`` is massless). Moving branches off the
+        path (a gripper's fingers) are not part of the chain and are left out.
 
     Raises
     ------
@@ -168,7 +174,10 @@ def from_urdf(
 
     try:
         joints, tool = _chain_joints(label, path, geometry)
-        return SerialChain(joints, tool=tool, name=robot.name if name is None else name)
+        chain = SerialChain(joints, tool=tool, name=robot.name if name is None else name)
+        physical = _physical(label, path, children, {link.name: link for link in robot.links},
+                             geometry)  # fmt: skip
+        return chain if physical is None else chain.with_physical(physical)
     except InvalidInputError as exc:
         if str(exc).startswith(label):
             raise
@@ -478,6 +487,86 @@ def _chain_joints(
         first, last = path[0].parent, path[-1].child
         raise InvalidInputError(f"{label}: no movable joint between {first!r} and {last!r}")
     return joints, pending
+
+
+def _physical(
+    label: str,
+    path: list[Any],
+    children: dict[str, list[Any]],
+    links: dict[str, Any],
+    geometry: dict[str, _JointGeometry],
+) -> Physical | None:
+    """Effort limits and lumped inertial data of the links each movable joint moves.
+
+    None when the file gives neither.
+    """
+    movable = [j for j in path if j.type in _MOVABLE]
+    efforts = [None if j.limit is None else j.limit.effort for j in movable]
+    lumped = [_lumped(label, j.child, children, links, geometry) for j in movable]
+    has_effort = all(e is not None and e > 0 for e in efforts)
+    has_inertia = any(part is not None for part in lumped)
+    if not has_effort and not has_inertia:
+        return None
+    values: dict[str, Any] = {"source": f"{label}: <limit effort> and <inertial> elements"}
+    if has_effort:
+        values["effort_limit"] = [float(e) for e in efforts]
+    if has_inertia:
+        zero = (0.0, np.zeros(3), np.zeros((3, 3)))
+        mass, com, inertia = zip(*(zero if part is None else part for part in lumped), strict=True)
+        values.update(link_mass=list(mass), center_of_mass=np.stack(com),
+                      inertia=np.stack(inertia))  # fmt: skip
+    return Physical(**values)
+
+
+def _lumped(
+    label: str,
+    link: str,
+    children: dict[str, list[Any]],
+    links: dict[str, Any],
+    geometry: dict[str, _JointGeometry],
+) -> tuple[float, FloatArray, FloatArray] | None:
+    """Mass, centre of mass and inertia about it of ``link`` and all links fixed to it.
+
+    In ``link``'s frame; None when none of them has an ``<inertial>``.
+    """
+    parts = []  # (mass, centre in link's frame, inertia about it in link's frame)
+    stack = [(link, np.eye(4))]
+    while stack:
+        name, pose = stack.pop()
+        inertial = links[name].inertial
+        if inertial is not None:
+            parts.append(_inertial_in(label, name, inertial, pose))
+        for joint in children[name]:
+            if joint.type == "fixed":
+                stack.append((joint.child, pose @ geometry[joint.name].origin))
+    if not parts:
+        return None
+    masses = np.array([m for m, _, _ in parts])
+    total = float(masses.sum())
+    centres = np.stack([c for _, c, _ in parts])
+    centre = masses @ centres / total if total > 0 else np.zeros(3)
+    inertia = np.zeros((3, 3))
+    for m, c, tensor in parts:
+        d = c - centre  # the parallel-axis theorem, about the common centre
+        inertia += tensor + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return total, centre, inertia
+
+
+def _inertial_in(
+    label: str, link: str, inertial: Any, pose: FloatArray
+) -> tuple[float, FloatArray, FloatArray]:
+    """One ``<inertial>``, checked, moved into the frame ``pose`` is relative to."""
+    where = f"{label}: link {link!r} <inertial>"
+    mass = 0.0 if inertial.mass is None else float(inertial.mass)
+    if not math.isfinite(mass) or mass < 0:
+        raise InvalidInputError(f"{where}: mass must be a finite number >= 0 kg, got {mass}")
+    origin = np.eye(4) if inertial.origin is None else np.asarray(inertial.origin, dtype=float)
+    tensor = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia, float)
+    if not (np.all(np.isfinite(origin)) and np.all(np.isfinite(tensor))):
+        raise InvalidInputError(f"{where}: origin and inertia must be finite numbers")
+    frame = pose @ origin
+    rotation = frame[:3, :3]
+    return mass, frame[:3, 3], rotation @ tensor @ rotation.T
 
 
 # ---------------------------------------------------------------------- helpers
