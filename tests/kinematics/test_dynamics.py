@@ -24,6 +24,7 @@ from trajkit.kinematics import (
     SerialChain,
     inertials_from_dh,
     inverse_dynamics,
+    path_dynamics,
 )
 
 ROUNDING = 1e-12  # relative to the largest torque: the same sums in another order
@@ -219,6 +220,18 @@ def test_inertials_are_frozen_copies():
     assert inertials.mass[0] == 1.0
     with pytest.raises(ValueError, match="read-only"):
         inertials.mass[0] = 3.0
+
+
+@FEW
+@given(st.integers(0, 2**32 - 1), st.floats(0.0, 5.0), st.floats(-5.0, 5.0))
+def test_path_torques_are_affine_in_path_acceleration_and_squared_speed(seed, speed, u):
+    rng = np.random.default_rng(seed)
+    chain, inertials = random_arm(rng, 5)
+    q, dq, ddq = rng.normal(size=(3, 7, 5))
+    a, b, c = path_dynamics(chain, q, dq, ddq, inertials=inertials)
+    direct = inverse_dynamics(chain, q, dq * speed, dq * u + ddq * speed**2, inertials=inertials)
+    scale = max(1.0, np.abs(direct).max())
+    np.testing.assert_allclose(a * u + b * speed**2 + c, direct, rtol=0, atol=ROUNDING * 10 * scale)
 
 
 # ----------------------------------------------------------------------- refusals

@@ -10,7 +10,12 @@ Examples
 
 from trajkit.kinematics.chain import DHRow, Joint, SerialChain
 from trajkit.kinematics.drawing import link_positions
-from trajkit.kinematics.dynamics import STANDARD_GRAVITY, inertials_from_dh, inverse_dynamics
+from trajkit.kinematics.dynamics import (
+    STANDARD_GRAVITY,
+    inertials_from_dh,
+    inverse_dynamics,
+    path_dynamics,
+)
 from trajkit.kinematics.ik import IKSolution
 from trajkit.kinematics.inertials import Inertials
 from trajkit.kinematics.physical import Physical
@@ -35,4 +40,5 @@ __all__ = [
     "inertials_from_dh",
     "inverse_dynamics",
     "link_positions",
+    "path_dynamics",
 ]

@@ -116,6 +116,43 @@ def inverse_dynamics(
     return torque[0] if single else torque
 
 
+def path_dynamics(
+    chain: SerialChain,
+    q: ArrayLike,
+    dq: ArrayLike,
+    ddq: ArrayLike,
+    *,
+    inertials: Inertials | None = None,
+    gravity: ArrayLike = STANDARD_GRAVITY,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Torques along a path ``q(s)`` as ``τ = a(s) s̈ + b(s) ṡ² + c(s)``.
+
+    With ``q̇ = q' ṡ`` and ``q̈ = q' s̈ + q'' ṡ²``, the torques are affine in the path
+    acceleration ``s̈`` and the squared path speed ``ṡ²``: ``a = M q'``,
+    ``b = M q'' + C(q, q') q'`` (the velocity terms are quadratic in the rate) and
+    ``c = g(q)``. A timing keeps torque limits where ``τ_lo <= a u + b x + c <= τ_hi``.
+
+    Parameters
+    ----------
+    chain : SerialChain
+    q, dq, ddq : array_like, shape (ndof,) or (m, ndof)
+        The path and its first and second derivatives in ``s``, at the same points.
+    inertials, gravity
+        As for :func:`inverse_dynamics`.
+
+    Returns
+    -------
+    a, b, c : ndarray, shape (ndof,) or (m, ndof)
+        N·m (or N) per unit of ``s̈``, of ``ṡ²`` and alone.
+    """
+    still = (0.0, 0.0, 0.0)
+    zero = np.zeros_like(finite_array("dq", dq))
+    a = inverse_dynamics(chain, q, zero, dq, inertials=inertials, gravity=still)
+    b = inverse_dynamics(chain, q, dq, ddq, inertials=inertials, gravity=still)
+    c = inverse_dynamics(chain, q, zero, zero, inertials=inertials, gravity=gravity)
+    return a, b, c
+
+
 def _inertials_for(chain: SerialChain, inertials: Inertials | None) -> Inertials:
     if inertials is None:
         physical = chain.physical
