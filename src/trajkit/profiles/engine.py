@@ -276,51 +276,24 @@ def solve(
             if min_duration is None
             else np.broadcast_to(np.asarray(min_duration, dtype=np.float64), leading).copy()
         )
+    else:
+        floor = np.nan if min_duration is None else float(min_duration)
+    # The leading arguments of both entry kernels (see solve.one and solve.batch).
+    problem = (m, control, sync, enabled, floor, step, switches)
+    if batch:
         status = np.empty(leading, np.int64)
-        run(
-            "batch",
-            mod.batch,
-            m,
-            control,
-            sync,
-            enabled,
-            floor,
-            step,
-            switches,
-            t,
-            u,
-            own,
-            out,
-            status,
-        )
+        run("batch", mod.batch, *problem, t, u, own, out, status)
         bad = np.flatnonzero(status != _OK)
         if bad.size:
             i = int(bad[0])
             raise _failure(planner, int(status[i]), out[i], m[i], f" in problem {i}", step)
     else:
-        floor = np.nan if min_duration is None else float(min_duration)
         records = np.empty((ndof, _SIZE))
         breakpoints = np.empty(_PHASES * ndof + 2)
         coefficients = np.empty((4, _PHASES * ndof + 1, ndof))
         end = np.empty((3, ndof))
         code, count = run(
-            "one",
-            mod.one,
-            m,
-            control,
-            sync,
-            enabled,
-            floor,
-            step,
-            switches,
-            records,
-            own,
-            out,
-            t,
-            u,
-            breakpoints,
-            coefficients,
-            end,
+            "one", mod.one, *problem, records, own, out, t, u, breakpoints, coefficients, end
         )
         if code != _OK:
             raise _failure(planner, code, out, m, "", step)

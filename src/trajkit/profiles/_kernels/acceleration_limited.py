@@ -61,20 +61,16 @@ from trajkit.profiles._kernels.profile import (
     V_EPS,
     check_second_order,
     copy_boundary,
-    duration,
-    no_blocks,
+    keep,
     power_of_two,
     set_times,
+    single_profile,
 )
 
 
 @njit(cache=True, error_model="numpy")
 def _accept(valid, count, limits, a_up, a_down, v_max, v_min):
-    """Check the candidate in ``valid[count]``; return the new number of profiles.
-
-    An accepted profile keeps its row and the next row receives the boundary, so
-    that the next candidate starts from the same state (rows are scratch).
-    """
+    """Check the candidate in ``valid[count]``; return the new number of profiles (:func:`keep`)."""
     row = valid[count]
     if not check_second_order(row, UDDU, limits, a_up, a_down, v_max, v_min):
         return count
@@ -86,10 +82,7 @@ def _accept(valid, count, limits, a_up, a_down, v_max, v_min):
         push = max(abs(a_up), abs(a_down))
         if not (row[PF] == row[P] and abs(row[VF] - row[V]) / push == 0.0):
             return count
-    count += 1
-    if count < valid.shape[0]:
-        copy_boundary(valid[count], row)
-    return count
+    return keep(valid, count)
 
 
 # --------------------------------------------------------------------------- robustness
@@ -416,11 +409,8 @@ def _zero_velocity_limits(prof, v_max, v_min, block, block_times):
         return False
     if not check_second_order(p_min, UDDU, NONE, 0.0, 0.0, v_max, v_min):
         return False
-    block_times[0] = duration(p_min)
-    no_blocks(block_times)
-    if abs(v0) > EPS:
-        # A coast has exactly one duration: every longer one is blocked.
-        block_times[1] = block_times[0]
+    # A coast has exactly one duration.
+    single_profile(block_times, p_min, abs(v0) > EPS)
     return True
 
 
@@ -877,8 +867,7 @@ def velocity_limited_fastest(prof, v_max, v_min, block, block_times):
     p_min[T + 3] = pd / v_up
     if not _check_first_order(p_min, VEL, v_up):
         return False
-    block_times[0] = duration(p_min)
-    no_blocks(block_times)
+    single_profile(block_times, p_min, False)
     return True
 
 

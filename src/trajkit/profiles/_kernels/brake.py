@@ -32,7 +32,7 @@ BRAKE_EPS = 2.2e-14
 
 @njit(cache=True, error_model="numpy")
 def _min(a, b):
-    """``std::min``: NaN in ``b`` propagates as in the reference (unlike ``min``)."""
+    """``std::min``: ``b`` only if strictly smaller (so a NaN in ``b`` loses)."""
     return b if b < a else a
 
 

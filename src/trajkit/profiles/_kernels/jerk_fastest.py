@@ -31,32 +31,13 @@ import math
 import numpy as np
 from numba import njit
 
-from trajkit.profiles._kernels.layout import (
-    ACC0,
-    ACC0_ACC1,
-    ACC0_ACC1_VEL,
-    ACC0_VEL,
-    ACC1,
-    ACC1_VEL,
-    AF,
-    DIRECTION,
-    NONE,
-    PF,
-    SIZE,
-    T_SUM,
-    UDDU,
-    VEL,
-    VF,
-    A,
-    P,
-    T,
-    V,
-)
+from trajkit.profiles._kernels import layout as L
 from trajkit.profiles._kernels.profile import (
     EPS,
     check,
     copy_boundary,
     duration,
+    keep,
     set_phase_times,
 )
 from trajkit.profiles._kernels.roots import solve_quart_monic
@@ -82,11 +63,11 @@ def _sqrt(x):
 @njit(cache=True, error_model="numpy")
 def _pre(prof):
     """Displacement, boundary states and their powers, shared by every law."""
-    pd = prof[PF] - prof[P]
-    v0 = prof[V]
-    a0 = prof[A]
-    vf = prof[VF]
-    af = prof[AF]
+    pd = prof[L.PF] - prof[L.P]
+    v0 = prof[L.V]
+    a0 = prof[L.A]
+    vf = prof[L.VF]
+    af = prof[L.AF]
     a0_a0 = a0 * a0
     af_af = af * af
     # The powers are formed exactly as in the reference, so the laws round alike.
@@ -108,18 +89,9 @@ def _pre(prof):
 
 
 @njit(cache=True, error_model="numpy")
-def _add(valid, count):
-    """Keep candidate ``count``; the next one starts from the same boundary."""
-    count += 1
-    if count < valid.shape[0]:
-        copy_boundary(valid[count], valid[count - 1])
-    return count
-
-
-@njit(cache=True, error_model="numpy")
 def _copy(dst, src):
     """Copy a whole record (a loop: slice assignment costs seconds of compilation)."""
-    for k in range(SIZE):
+    for k in range(L.SIZE):
         dst[k] = src[k]
 
 
@@ -132,14 +104,15 @@ def _time_all_vel(valid, count, v_max, v_min, a_max, a_min, j_max):
     if count >= valid.shape[0]:
         return count
     prof = valid[count]
-    pd, v0, a0, vf, af, v0_v0, vf_vf, a0_a0, a0_p3, a0_p4, af_af, af_p3, af_p4 = _pre(prof)
+    pre = _pre(prof)
+    pd, v0, a0, vf, af, v0_v0, vf_vf, a0_a0, a0_p3, a0_p4, af_af, af_p3, af_p4 = pre
     jj = j_max * j_max
 
     # ACC0_ACC1_VEL
-    prof[T] = (-a0 + a_max) / j_max
-    prof[T + 1] = (a0_a0 / 2 - a_max * a_max - j_max * (v0 - v_max)) / (a_max * j_max)
-    prof[T + 2] = a_max / j_max
-    prof[T + 3] = (
+    prof[L.T] = (-a0 + a_max) / j_max
+    prof[L.T + 1] = (a0_a0 / 2 - a_max * a_max - j_max * (v0 - v_max)) / (a_max * j_max)
+    prof[L.T + 2] = a_max / j_max
+    prof[L.T + 3] = (
         3 * (a0_p4 * a_min - af_p4 * a_max)
         + 8 * a_max * a_min * (af_p3 - a0_p3 + 3 * j_max * (a0 * v0 - af * vf))
         + 6 * a0_a0 * a_min * (a_max * a_max - 2 * j_max * v0)
@@ -152,40 +125,28 @@ def _time_all_vel(valid, count, v_max, v_min, a_max, a_min, j_max):
             + j_max * (a_max * vf_vf - a_min * v0_v0)
         )
     ) / (24 * a_max * a_min * jj * v_max)
-    prof[T + 4] = -a_min / j_max
-    prof[T + 5] = -(af_af / 2 - a_min * a_min - j_max * (vf - v_max)) / (a_min * j_max)
-    prof[T + 6] = prof[T + 4] + af / j_max
-    if check(prof, UDDU, ACC0_ACC1_VEL, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    prof[L.T + 4] = -a_min / j_max
+    prof[L.T + 5] = -(af_af / 2 - a_min * a_min - j_max * (vf - v_max)) / (a_min * j_max)
+    prof[L.T + 6] = prof[L.T + 4] + af / j_max
+    if check(prof, L.UDDU, L.ACC0_ACC1_VEL, j_max, v_max, v_min, a_max, a_min, False):
+        return keep(valid, count)
 
     # ACC1_VEL: the decelerating half (t[4..6]) is the one just computed.
     t_acc0 = _sqrt(a0_a0 / (2 * jj) + (v_max - v0) / j_max)
-    prof[T] = t_acc0 - a0 / j_max
-    prof[T + 1] = 0.0
-    prof[T + 2] = t_acc0
-    prof[T + 3] = -(
-        3 * af_p4
-        - 8 * a_min * (af_p3 - a0_p3)
-        - 24 * a_min * j_max * (a0 * v0 - af * vf)
-        + 6 * af_af * (a_min * a_min - 2 * j_max * vf)
-        - 12
-        * j_max
-        * (
-            2 * a_min * j_max * pd
-            + a_min * a_min * (vf + v_max)
-            + j_max * (v_max * v_max - vf_vf)
-            + a_min * t_acc0 * (a0_a0 - 2 * j_max * (v0 + v_max))
-        )
-    ) / (24 * a_min * jj * v_max)
-    if check(prof, UDDU, ACC1_VEL, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    prof[L.T] = t_acc0 - a0 / j_max
+    prof[L.T + 1] = 0.0
+    prof[L.T + 2] = t_acc0
+    ramp = a_min * t_acc0 * (a0_a0 - 2 * j_max * (v0 + v_max))
+    prof[L.T + 3] = _acc1_vel_coast(pre, v_max, a_min, j_max, ramp)
+    if check(prof, L.UDDU, L.ACC1_VEL, j_max, v_max, v_min, a_max, a_min, False):
+        return keep(valid, count)
 
     # ACC0_VEL
     t_acc1 = _sqrt(af_af / (2 * jj) + (v_max - vf) / j_max)
-    prof[T] = (-a0 + a_max) / j_max
-    prof[T + 1] = (a0_a0 / 2 - a_max * a_max - j_max * (v0 - v_max)) / (a_max * j_max)
-    prof[T + 2] = a_max / j_max
-    prof[T + 3] = (
+    prof[L.T] = (-a0 + a_max) / j_max
+    prof[L.T + 1] = (a0_a0 / 2 - a_max * a_max - j_max * (v0 - v_max)) / (a_max * j_max)
+    prof[L.T + 2] = a_max / j_max
+    prof[L.T + 3] = (
         3 * a0_p4
         + 8 * a_max * (af_p3 - a0_p3)
         + 24 * a_max * j_max * (a0 * v0 - af * vf)
@@ -199,26 +160,51 @@ def _time_all_vel(valid, count, v_max, v_min, a_max, a_min, j_max):
             + a_max * t_acc1 * (-af_af + 2 * (vf + v_max) * j_max)
         )
     ) / (24 * a_max * jj * v_max)
-    prof[T + 4] = t_acc1
-    prof[T + 5] = 0.0
-    prof[T + 6] = t_acc1 + af / j_max
-    if check(prof, UDDU, ACC0_VEL, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    prof[L.T + 4] = t_acc1
+    prof[L.T + 5] = 0.0
+    prof[L.T + 6] = t_acc1 + af / j_max
+    if check(prof, L.UDDU, L.ACC0_VEL, j_max, v_max, v_min, a_max, a_min, False):
+        return keep(valid, count)
 
     # VEL: the accelerating half of ACC1_VEL, the decelerating half of ACC0_VEL.
-    prof[T] = t_acc0 - a0 / j_max
-    prof[T + 1] = 0.0
-    prof[T + 2] = t_acc0
-    prof[T + 3] = (
+    prof[L.T] = t_acc0 - a0 / j_max
+    prof[L.T + 1] = 0.0
+    prof[L.T + 2] = t_acc0
+    prof[L.T + 3] = (
         (af_p3 - a0_p3) / (3 * jj * v_max)
         + (a0 * v0 - af * vf + (af_af * t_acc1 + a0_a0 * t_acc0) / 2) / (j_max * v_max)
         - (v0 / v_max + 1.0) * t_acc0
         - (vf / v_max + 1.0) * t_acc1
         + pd / v_max
     )
-    if check(prof, UDDU, VEL, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    if check(prof, L.UDDU, L.VEL, j_max, v_max, v_min, a_max, a_min, False):
+        return keep(valid, count)
     return count
+
+
+@njit(cache=True, error_model="numpy")
+def _acc1_vel_coast(pre, v_max, a_min, j_max, ramp):
+    """Coast duration of an ACC1_VEL profile from :func:`_pre`'s ``pre``.
+
+    ``ramp`` is ``a_min t2 (a0^2 - 2 j_max (v0 + v_max))``, ``t2`` the duration of
+    the third phase, which each law forms (and rounds) its own way.
+    """
+    pd, v0, a0, vf, af, _, vf_vf, _, a0_p3, _, af_af, af_p3, af_p4 = pre
+    jj = j_max * j_max
+    return -(
+        3 * af_p4
+        - 8 * a_min * (af_p3 - a0_p3)
+        - 24 * a_min * j_max * (a0 * v0 - af * vf)
+        + 6 * af_af * (a_min * a_min - 2 * j_max * vf)
+        - 12
+        * j_max
+        * (
+            2 * a_min * j_max * pd
+            + a_min * a_min * (vf + v_max)
+            + j_max * (v_max * v_max - vf_vf)
+            + ramp
+        )
+    ) / (24 * a_min * jj * v_max)
 
 
 @njit(cache=True, error_model="numpy")
@@ -269,8 +255,8 @@ def _time_acc0_acc1(valid, count, v_max, v_min, a_max, a_min, j_max, return_afte
             h3 + h1 / a_min,
             t4 + af / j_max,
         )
-        if check(prof, UDDU, ACC0_ACC1, j_max, v_max, v_min, a_max, a_min, True):
-            count = _add(valid, count)
+        if check(prof, L.UDDU, L.ACC0_ACC1, j_max, v_max, v_min, a_max, a_min, True):
+            count = keep(valid, count)
             if return_after_found or count >= valid.shape[0]:
                 return count
             prof = valid[count]
@@ -288,8 +274,8 @@ def _time_acc0_acc1(valid, count, v_max, v_min, a_max, a_min, j_max, return_afte
             h3 - h1 / a_min,
             t4 + af / j_max,
         )
-        if check(prof, UDDU, ACC0_ACC1, j_max, v_max, v_min, a_max, a_min, True):
-            count = _add(valid, count)
+        if check(prof, L.UDDU, L.ACC0_ACC1, j_max, v_max, v_min, a_max, a_min, True):
+            count = keep(valid, count)
     return count
 
 
@@ -365,112 +351,124 @@ def _time_all_none_acc0_acc1(valid, count, v_max, v_min, a_max, a_min, j_max, re
         roots_acc1,
     )
 
-    for k in range(n_none):
-        t = roots_none[k]
-        if t < t_min_none or t > t_max_none:
-            continue
-        if count >= valid.shape[0]:
-            return count
-        # Single Newton step (regarding pd)
-        if t > EPS:
-            h1 = j_max * t * t
-            orig = (
-                -h2_h2 / (4 * j_max * t)
-                + h2_none * (af / j_max + t)
-                + (
-                    4 * a0_p3
-                    + 2 * af_p3
-                    - 6 * a0_a0 * (af + 2 * j_max * t)
-                    + 12 * (af - a0) * j_max * v0
-                    + 3 * jj * (-4 * pd + (h1 + 8 * v0) * t)
+    # The families in the reference's order; each is polished and timed by its own law.
+    for family in range(3):
+        if family == 0:
+            roots, n, t_min, t_max, limits = roots_none, n_none, t_min_none, t_max_none, L.NONE
+        elif family == 1:
+            roots, n, t_min, t_max, limits = roots_acc0, n_acc0, t_min_acc0, t_max_acc0, L.ACC0
+        else:
+            roots, n, t_min, t_max, limits = roots_acc1, n_acc1, t_min_acc1, t_max_acc1, L.ACC1
+        for k in range(n):
+            t = roots[k]
+            if t < t_min or t > t_max:
+                continue
+            if count >= valid.shape[0]:
+                return count
+            prof = valid[count]
+            if family == 0:
+                _none_times(prof, t, pd, v0, a0, af, a0_a0, a0_p3, af_p3, j_max, h2_none)
+            elif family == 1:
+                _acc0_times(prof, t, a0, af, a_max, j_max, h0_acc0, h2_acc0, h3_acc0)
+            else:
+                _acc1_times(
+                    prof, t, v0, a0, af, a0_a0, a0_p3, a_min, j_max, h0_acc1, h2_acc1, h3_acc1
                 )
-                / (12 * jj)
+            # Only the second plateau's acceleration is set to its limit exactly.
+            if check(prof, L.UDDU, limits, j_max, v_max, v_min, a_max, a_min, family == 2):
+                count = keep(valid, count)
+                if return_after_found:
+                    return count
+    return count
+
+
+@njit(cache=True, error_model="numpy")
+def _none_times(prof, t, pd, v0, a0, af, a0_a0, a0_p3, af_p3, j_max, h2_none):
+    """Phase times of the family without a plateau from a root ``t`` of its quartic.
+
+    A single Newton step on the position equation polishes the root first.
+    """
+    if t > EPS:
+        jj = j_max * j_max
+        h2_h2 = h2_none * h2_none
+        h1 = j_max * t * t
+        orig = (
+            -h2_h2 / (4 * j_max * t)
+            + h2_none * (af / j_max + t)
+            + (
+                4 * a0_p3
+                + 2 * af_p3
+                - 6 * a0_a0 * (af + 2 * j_max * t)
+                + 12 * (af - a0) * j_max * v0
+                + 3 * jj * (-4 * pd + (h1 + 8 * v0) * t)
             )
-            deriv = h2_none + 2 * v0 - a0_a0 / j_max + h2_h2 / (4 * h1) + (3 * h1) / 4
-            t -= orig / deriv
-        h0 = h2_none / (2 * j_max * t)
-        prof = valid[count]
-        set_phase_times(
-            prof, h0 + t / 2 - a0 / j_max, 0.0, t, 0.0, 0.0, 0.0, -h0 + t / 2 + af / j_max
+            / (12 * jj)
         )
-        if check(prof, UDDU, NONE, j_max, v_max, v_min, a_max, a_min, False):
-            count = _add(valid, count)
-            if return_after_found:
-                return count
+        deriv = h2_none + 2 * v0 - a0_a0 / j_max + h2_h2 / (4 * h1) + (3 * h1) / 4
+        t -= orig / deriv
+    h0 = h2_none / (2 * j_max * t)
+    set_phase_times(prof, h0 + t / 2 - a0 / j_max, 0.0, t, 0.0, 0.0, 0.0, -h0 + t / 2 + af / j_max)
 
-    for k in range(n_acc0):
-        t = roots_acc0[k]
-        if t < t_min_acc0 or t > t_max_acc0:
-            continue
-        if count >= valid.shape[0]:
-            return count
-        # Single Newton step (regarding pd)
-        if t > EPS:
-            h1 = j_max * t
-            orig = h0_acc0 / (12 * jj * t) + t * (h2_acc0 + h1 * (h1 - 2 * a_max))
-            deriv = 2 * (h2_acc0 + h1 * (2 * h1 - 3 * a_max))
-            t -= orig / deriv
-        prof = valid[count]
-        set_phase_times(
-            prof,
-            (-a0 + a_max) / j_max,
-            h3_acc0 - 2 * t + j_max / a_max * t * t,
-            t,
-            0.0,
-            0.0,
-            0.0,
-            (af - a_max) / j_max + t,
-        )
-        if check(prof, UDDU, ACC0, j_max, v_max, v_min, a_max, a_min, False):
-            count = _add(valid, count)
-            if return_after_found:
-                return count
 
-    for k in range(n_acc1):
-        t = roots_acc1[k]
-        if t < t_min_acc1 or t > t_max_acc1:
-            continue
-        if count >= valid.shape[0]:
-            return count
-        # Up to three Newton steps (regarding pd); the first may not overshoot t = 0.
-        if t > EPS:
-            h5 = a0_p3 + 2 * j_max * a0 * v0
-            h1 = j_max * t
-            orig = _acc1_residual(h0_acc1, h5, h1, t, a0, a0_a0, a_min, v0, j_max)
+@njit(cache=True, error_model="numpy")
+def _acc0_times(prof, t, a0, af, a_max, j_max, h0_acc0, h2_acc0, h3_acc0):
+    """Phase times of the family with the first plateau from a root ``t`` (one Newton step)."""
+    if t > EPS:
+        jj = j_max * j_max
+        h1 = j_max * t
+        orig = h0_acc0 / (12 * jj * t) + t * (h2_acc0 + h1 * (h1 - 2 * a_max))
+        deriv = 2 * (h2_acc0 + h1 * (2 * h1 - 3 * a_max))
+        t -= orig / deriv
+    set_phase_times(
+        prof,
+        (-a0 + a_max) / j_max,
+        h3_acc0 - 2 * t + j_max / a_max * t * t,
+        t,
+        0.0,
+        0.0,
+        0.0,
+        (af - a_max) / j_max + t,
+    )
+
+
+@njit(cache=True, error_model="numpy")
+def _acc1_times(prof, t, v0, a0, af, a0_a0, a0_p3, a_min, j_max, h0_acc1, h2_acc1, h3_acc1):
+    """Phase times of the family with the second plateau from a root ``t``.
+
+    Up to three Newton steps polish the root; the first may not overshoot ``t = 0``.
+    """
+    if t > EPS:
+        h5 = a0_p3 + 2 * j_max * a0 * v0
+        h1 = j_max * t
+        orig = _acc1_residual(h0_acc1, h5, h1, t, a0, a0_a0, a_min, v0, j_max)
+        deriv = (a_min - a0 - h1) * (h2_acc1 + h1 * (4 * a0 - a_min + 2 * h1))
+        step = orig / deriv
+        # std::min(step, t) of the reference: t only if strictly smaller.
+        if t < step:
+            step = t
+        t -= step
+
+        h1 = j_max * t
+        orig = _acc1_residual(h0_acc1, h5, h1, t, a0, a0_a0, a_min, v0, j_max)
+        if abs(orig) > 1e-9:
             deriv = (a_min - a0 - h1) * (h2_acc1 + h1 * (4 * a0 - a_min + 2 * h1))
-            step = orig / deriv
-            # std::min(step, t) of the reference: t only if strictly smaller.
-            if t < step:
-                step = t
-            t -= step
+            t -= orig / deriv
 
             h1 = j_max * t
             orig = _acc1_residual(h0_acc1, h5, h1, t, a0, a0_a0, a_min, v0, j_max)
             if abs(orig) > 1e-9:
                 deriv = (a_min - a0 - h1) * (h2_acc1 + h1 * (4 * a0 - a_min + 2 * h1))
                 t -= orig / deriv
-
-                h1 = j_max * t
-                orig = _acc1_residual(h0_acc1, h5, h1, t, a0, a0_a0, a_min, v0, j_max)
-                if abs(orig) > 1e-9:
-                    deriv = (a_min - a0 - h1) * (h2_acc1 + h1 * (4 * a0 - a_min + 2 * h1))
-                    t -= orig / deriv
-        prof = valid[count]
-        set_phase_times(
-            prof,
-            t,
-            0.0,
-            (a0 - a_min) / j_max + t,
-            0.0,
-            0.0,
-            h3_acc1 - (2 * a0 + j_max * t) * t / a_min,
-            (af - a_min) / j_max,
-        )
-        if check(prof, UDDU, ACC1, j_max, v_max, v_min, a_max, a_min, True):
-            count = _add(valid, count)
-            if return_after_found:
-                return count
-    return count
+    set_phase_times(
+        prof,
+        t,
+        0.0,
+        (a0 - a_min) / j_max + t,
+        0.0,
+        0.0,
+        h3_acc1 - (2 * a0 + j_max * t) * t / a_min,
+        (af - a_min) / j_max,
+    )
 
 
 @njit(cache=True, error_model="numpy")
@@ -493,79 +491,41 @@ def _acc1_residual(h0_acc1, h5, h1, t, a0, a0_a0, a_min, v0, j_max):
 
 
 @njit(cache=True, error_model="numpy")
-def _time_acc1_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
+def _time_acc1_vel_two_step(prof, v_max, v_min, a_max, a_min, j_max):
     """Numerical fallback: ACC1_VEL starting straight with the jerk-down phase."""
-    if count >= valid.shape[0]:
-        return count
-    prof = valid[count]
-    pd, v0, a0, vf, af, _v0_v0, vf_vf, a0_a0, a0_p3, _a0_p4, af_af, af_p3, af_p4 = _pre(prof)
-    jj = j_max * j_max
+    pre = _pre(prof)
+    _, v0, a0, vf, af, _, _, a0_a0, _, _, af_af, _, _ = pre
     t4 = -a_min / j_max
+    ramp = a_min * a0 * (a0_a0 - 2 * j_max * (v0 + v_max)) / j_max
     set_phase_times(
         prof,
         0.0,
         0.0,
         a0 / j_max,
-        -(
-            3 * af_p4
-            - 8 * a_min * (af_p3 - a0_p3)
-            - 24 * a_min * j_max * (a0 * v0 - af * vf)
-            + 6 * af_af * (a_min * a_min - 2 * j_max * vf)
-            - 12
-            * j_max
-            * (
-                2 * a_min * j_max * pd
-                + a_min * a_min * (vf + v_max)
-                + j_max * (v_max * v_max - vf_vf)
-                + a_min * a0 * (a0_a0 - 2 * j_max * (v0 + v_max)) / j_max
-            )
-        )
-        / (24 * a_min * jj * v_max),
+        _acc1_vel_coast(pre, v_max, a_min, j_max, ramp),
         t4,
         -(af_af / 2 - a_min * a_min + j_max * (v_max - vf)) / (a_min * j_max),
         t4 + af / j_max,
     )
-    if check(prof, UDDU, ACC1_VEL, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
-    return count
+    return check(prof, L.UDDU, L.ACC1_VEL, j_max, v_max, v_min, a_max, a_min, False)
 
 
 @njit(cache=True, error_model="numpy")
-def _time_acc0_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
+def _time_acc0_two_step(prof, v_max, v_min, a_max, a_min, j_max):
     """Numerical fallback: ACC0 profiles of two and three phases."""
-    if count >= valid.shape[0]:
-        return count
-    prof = valid[count]
     pd, v0, a0, vf, af, v0_v0, vf_vf, a0_a0, a0_p3, a0_p4, af_af, af_p3, af_p4 = _pre(prof)
     jj = j_max * j_max
+    limits = (v_max, v_min, a_max, a_min, j_max)
 
     # Two step
-    set_phase_times(
-        prof,
-        0.0,
-        (af_af - a0_a0 + 2 * j_max * (vf - v0)) / (2 * a0 * j_max),
-        (a0 - af) / j_max,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    )
-    if check(prof, UDDU, ACC0, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    t1 = (af_af - a0_a0 + 2 * j_max * (vf - v0)) / (2 * a0 * j_max)
+    if _acc0_candidate(prof, limits, 0.0, t1, (a0 - af) / j_max, 0.0):
+        return True
 
     # Three step, pf not used
-    set_phase_times(
-        prof,
-        (-a0 + a_max) / j_max,
-        (a0_a0 + af_af - 2 * a_max * a_max + 2 * j_max * (vf - v0)) / (2 * a_max * j_max),
-        (-af + a_max) / j_max,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    )
-    if check(prof, UDDU, ACC0, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    t1 = (a0_a0 + af_af - 2 * a_max * a_max + 2 * j_max * (vf - v0)) / (2 * a_max * j_max)
+    if _acc0_candidate(prof, limits, (-a0 + a_max) / j_max, t1, (-af + a_max) / j_max, 0.0):
+        return True
 
     # Three step, a_max not used
     h0 = 3 * (af_af - a0_a0 + 2 * j_max * (v0 + vf))
@@ -587,44 +547,35 @@ def _time_acc0_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
         * abs(j_max)
         / j_max
     )
-    set_phase_times(
-        prof,
-        (4 * af_p3 + 2 * a0_p3 - 6 * a0 * af_af + 12 * jj * pd + 12 * (af - a0) * j_max * vf + h1)
-        / (2 * j_max * h0),
-        -h1 / (j_max * h0),
-        (-4 * a0_p3 - 2 * af_p3 + 6 * a0_a0 * af + 12 * jj * pd - 12 * (af - a0) * j_max * v0 + h1)
-        / (2 * j_max * h0),
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    )
-    if check(prof, UDDU, ACC0, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    t0 = (
+        4 * af_p3 + 2 * a0_p3 - 6 * a0 * af_af + 12 * jj * pd + 12 * (af - a0) * j_max * vf + h1
+    ) / (2 * j_max * h0)
+    t2 = (
+        -4 * a0_p3 - 2 * af_p3 + 6 * a0_a0 * af + 12 * jj * pd - 12 * (af - a0) * j_max * v0 + h1
+    ) / (2 * j_max * h0)
+    if _acc0_candidate(prof, limits, t0, -h1 / (j_max * h0), t2, 0.0):
+        return True
 
     # Three step, t = (a_max - a_min) / j_max
     t = (a_max - a_min) / j_max
-    set_phase_times(
-        prof,
-        (-a0 + a_max) / j_max,
-        (a0_a0 - af_af) / (2 * a_max * j_max) + (vf - v0 + j_max * t * t) / a_max - 2 * t,
-        t,
-        0.0,
-        0.0,
-        0.0,
-        (af - a_min) / j_max,
-    )
-    if check(prof, UDDU, ACC0, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
-    return count
+    t1 = (a0_a0 - af_af) / (2 * a_max * j_max) + (vf - v0 + j_max * t * t) / a_max - 2 * t
+    return _acc0_candidate(prof, limits, (-a0 + a_max) / j_max, t1, t, (af - a_min) / j_max)
 
 
 @njit(cache=True, error_model="numpy")
-def _time_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
+def _acc0_candidate(prof, limits, t0, t1, t2, t6):
+    """Whether the ACC0 profile of phases 0, 1, 2 and 6 (the others empty) is valid.
+
+    ``limits`` are ``(v_max, v_min, a_max, a_min, j_max)``.
+    """
+    v_max, v_min, a_max, a_min, j_max = limits
+    set_phase_times(prof, t0, t1, t2, 0.0, 0.0, 0.0, t6)
+    return check(prof, L.UDDU, L.ACC0, j_max, v_max, v_min, a_max, a_min, False)
+
+
+@njit(cache=True, error_model="numpy")
+def _time_vel_two_step(prof, v_max, v_min, a_max, a_min, j_max):
     """Numerical fallback: VEL profiles that skip the jerk-up phase."""
-    if count >= valid.shape[0]:
-        return count
-    prof = valid[count]
     pd, v0, a0, vf, af, _v0_v0, _vf_vf, _a0_a0, a0_p3, _a0_p4, af_af, af_p3, _af_p4 = _pre(prof)
     jj = j_max * j_max
     h1 = _sqrt(af_af / (2 * jj) + (v_max - vf) / j_max)
@@ -643,8 +594,8 @@ def _time_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
         0.0,
         h1 + af / j_max,
     )
-    if check(prof, UDDU, VEL, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    if check(prof, L.UDDU, L.VEL, j_max, v_max, v_min, a_max, a_min, False):
+        return True
 
     # Four step
     set_phase_times(
@@ -661,44 +612,32 @@ def _time_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
         0.0,
         h1 + af / j_max,
     )
-    if check(prof, UDDU, VEL, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
-    return count
+    return check(prof, L.UDDU, L.VEL, j_max, v_max, v_min, a_max, a_min, False)
 
 
 @njit(cache=True, error_model="numpy")
-def _time_none_two_step(valid, count, v_max, v_min, a_max, a_min, j_max):
+def _time_none_two_step(prof, v_max, v_min, a_max, a_min, j_max):
     """Numerical fallback: NONE profiles of two phases and of one."""
-    if count >= valid.shape[0]:
-        return count
-    prof = valid[count]
-    v0 = prof[V]
-    a0 = prof[A]
-    vf = prof[VF]
-    af = prof[AF]
-    a0_a0 = a0 * a0
-    af_af = af * af
+    _, v0, a0, vf, af, _, _, a0_a0, _, _, af_af, _, _ = _pre(prof)
 
     # Two step
     h0 = _sqrt((a0_a0 + af_af) / 2 + j_max * (vf - v0)) * abs(j_max) / j_max
     set_phase_times(prof, (h0 - a0) / j_max, 0.0, (h0 - af) / j_max, 0.0, 0.0, 0.0, 0.0)
-    if check(prof, UDDU, NONE, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
+    if check(prof, L.UDDU, L.NONE, j_max, v_max, v_min, a_max, a_min, False):
+        return True
 
     # Single step
     set_phase_times(prof, (af - a0) / j_max, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    if check(prof, UDDU, NONE, j_max, v_max, v_min, a_max, a_min, False):
-        return _add(valid, count)
-    return count
+    return check(prof, L.UDDU, L.NONE, j_max, v_max, v_min, a_max, a_min, False)
 
 
 @njit(cache=True, error_model="numpy")
 def _time_all_single_step(prof, v_max, v_min, a_max, a_min):
     """Zero jerk or acceleration limits: the state can only drift, at constant acceleration."""
-    pd = prof[PF] - prof[P]
-    v0 = prof[V]
-    a0 = prof[A]
-    af = prof[AF]
+    pd = prof[L.PF] - prof[L.P]
+    v0 = prof[L.V]
+    a0 = prof[L.A]
+    af = prof[L.AF]
     v0_v0 = v0 * v0
     if abs(af - a0) > EPS:
         return False
@@ -706,19 +645,23 @@ def _time_all_single_step(prof, v_max, v_min, a_max, a_min):
     if abs(a0) > EPS:
         q = _sqrt(2 * a0 * pd + v0_v0)
         # Solution 1
-        prof[T + 3] = (-v0 + q) / a0
-        if prof[T + 3] >= 0.0 and check(prof, UDDU, NONE, 0.0, v_max, v_min, a_max, a_min, False):
+        prof[L.T + 3] = (-v0 + q) / a0
+        if prof[L.T + 3] >= 0.0 and check(
+            prof, L.UDDU, L.NONE, 0.0, v_max, v_min, a_max, a_min, False
+        ):
             return True
         # Solution 2
-        prof[T + 3] = -(v0 + q) / a0
-        if prof[T + 3] >= 0.0 and check(prof, UDDU, NONE, 0.0, v_max, v_min, a_max, a_min, False):
+        prof[L.T + 3] = -(v0 + q) / a0
+        if prof[L.T + 3] >= 0.0 and check(
+            prof, L.UDDU, L.NONE, 0.0, v_max, v_min, a_max, a_min, False
+        ):
             return True
     elif abs(v0) > EPS:
-        prof[T + 3] = pd / v0
-        if check(prof, UDDU, NONE, 0.0, v_max, v_min, a_max, a_min, False):
+        prof[L.T + 3] = pd / v0
+        if check(prof, L.UDDU, L.NONE, 0.0, v_max, v_min, a_max, a_min, False):
             return True
     elif abs(pd) < EPS:
-        if check(prof, UDDU, NONE, 0.0, v_max, v_min, a_max, a_min, False):
+        if check(prof, L.UDDU, L.NONE, 0.0, v_max, v_min, a_max, a_min, False):
             return True
     return False
 
@@ -771,8 +714,8 @@ def _same_motion(valid, count):
     for i in range(count):
         for k in range(i + 1, count):
             if (
-                valid[i, DIRECTION] == valid[k, DIRECTION]
-                and abs(valid[i, T_SUM + 6] - valid[k, T_SUM + 6]) < 256 * EPS
+                valid[i, L.DIRECTION] == valid[k, L.DIRECTION]
+                and abs(valid[i, L.T_SUM + 6] - valid[k, L.T_SUM + 6]) < 256 * EPS
             ):
                 return k
     return -1
@@ -815,24 +758,24 @@ def calculate_block(valid, count, block, block_times):
         _set_min_profile(block, block_times, valid[0])
         return True
     elif count == 2:
-        if abs(valid[0, T_SUM + 6] - valid[1, T_SUM + 6]) < 8 * EPS:
+        if abs(valid[0, L.T_SUM + 6] - valid[1, L.T_SUM + 6]) < 8 * EPS:
             _set_min_profile(block, block_times, valid[0])
             return True
-        idx_min = 0 if valid[0, T_SUM + 6] < valid[1, T_SUM + 6] else 1
+        idx_min = 0 if valid[0, L.T_SUM + 6] < valid[1, L.T_SUM + 6] else 1
         idx_else = (idx_min + 1) % 2
         _set_min_profile(block, block_times, valid[idx_min])
         _set_interval(block, block_times, 1, valid[idx_min], valid[idx_else])
         return True
     elif count == 4:
         # Only from numerical issues: find the "identical" profiles.
-        t0 = valid[0, T_SUM + 6]
-        t1 = valid[1, T_SUM + 6]
-        t2 = valid[2, T_SUM + 6]
-        t3 = valid[3, T_SUM + 6]
-        d0 = valid[0, DIRECTION]
-        d1 = valid[1, DIRECTION]
-        d2 = valid[2, DIRECTION]
-        d3 = valid[3, DIRECTION]
+        t0 = valid[0, L.T_SUM + 6]
+        t1 = valid[1, L.T_SUM + 6]
+        t2 = valid[2, L.T_SUM + 6]
+        t3 = valid[3, L.T_SUM + 6]
+        d0 = valid[0, L.DIRECTION]
+        d1 = valid[1, L.DIRECTION]
+        d2 = valid[2, L.DIRECTION]
+        d3 = valid[3, L.DIRECTION]
         if abs(t0 - t1) < 32 * EPS and d0 != d1:
             count = _remove(valid, count, 1)
         elif abs(t2 - t3) < 256 * EPS and d2 != d3:
@@ -852,7 +795,7 @@ def calculate_block(valid, count, block, block_times):
     # The fastest candidate; the first one on ties.
     idx_min = 0
     for i in range(1, count):
-        if valid[i, T_SUM + 6] < valid[idx_min, T_SUM + 6]:
+        if valid[i, L.T_SUM + 6] < valid[idx_min, L.T_SUM + 6]:
             idx_min = i
     _set_min_profile(block, block_times, valid[idx_min])
 
@@ -866,7 +809,7 @@ def calculate_block(valid, count, block, block_times):
         i2 = (idx_min + 2) % 5
         i3 = (idx_min + 3) % 5
         i4 = (idx_min + 4) % 5
-        if valid[i1, DIRECTION] == valid[i2, DIRECTION]:
+        if valid[i1, L.DIRECTION] == valid[i2, L.DIRECTION]:
             _set_interval(block, block_times, 1, valid[i1], valid[i2])
             _set_interval(block, block_times, 2, valid[i3], valid[i4])
         else:
@@ -944,16 +887,16 @@ def _fastest(prof, v_max, v_min, a_max, a_min, j_max, valid, block, block_times)
     """:func:`fastest` with float limits."""
     _clear_intervals(block_times)
     block_times[T_MIN] = math.inf
-    pd = prof[PF] - prof[P]
-    v0 = prof[V]
-    a0 = prof[A]
-    vf = prof[VF]
-    af = prof[AF]
+    pd = prof[L.PF] - prof[L.P]
+    v0 = prof[L.V]
+    a0 = prof[L.A]
+    vf = prof[L.VF]
+    af = prof[L.AF]
 
     # Zero limits: only drifting at constant acceleration is possible.
     if j_max == 0.0 or a_max == 0.0 or a_min == 0.0:
         p = block[0]
-        for k in range(SIZE):
+        for k in range(L.SIZE):
             p[k] = 0.0
         copy_boundary(p, prof)
         if _time_all_single_step(p, v_max, v_min, a_max, a_min):
@@ -1000,23 +943,33 @@ def _fastest(prof, v_max, v_min, a_max, a_min, j_max, valid, block, block_times)
         count = _time_all_vel(valid, count, v_min, v_max, a_min, a_max, -j_max)
 
     if count == 0:
-        count = _time_none_two_step(valid, count, v_max, v_min, a_max, a_min, j_max)
-    if count == 0:
-        count = _time_none_two_step(valid, count, v_min, v_max, a_min, a_max, -j_max)
-    if count == 0:
-        count = _time_acc0_two_step(valid, count, v_max, v_min, a_max, a_min, j_max)
-    if count == 0:
-        count = _time_acc0_two_step(valid, count, v_min, v_max, a_min, a_max, -j_max)
-    if count == 0:
-        count = _time_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max)
-    if count == 0:
-        count = _time_vel_two_step(valid, count, v_min, v_max, a_min, a_max, -j_max)
-    if count == 0:
-        count = _time_acc1_vel_two_step(valid, count, v_max, v_min, a_max, a_min, j_max)
-    if count == 0:
-        count = _time_acc1_vel_two_step(valid, count, v_min, v_max, a_min, a_max, -j_max)
-
+        count = _two_step(valid, v_max, v_min, a_max, a_min, j_max)
     return calculate_block(valid, count, block, block_times)
+
+
+@njit(cache=True, error_model="numpy")
+def _two_step(valid, v_max, v_min, a_max, a_min, j_max):
+    """The numerical fallbacks, each law up and then down, until one finds a profile.
+
+    Returns the number of profiles found (0 or 1).
+    """
+    for law in range(4):
+        for up in (True, False):
+            if up:
+                limits = (v_max, v_min, a_max, a_min, j_max)
+            else:
+                limits = (v_min, v_max, a_min, a_max, -j_max)
+            if law == 0:
+                found = _time_none_two_step(valid[0], *limits)
+            elif law == 1:
+                found = _time_acc0_two_step(valid[0], *limits)
+            elif law == 2:
+                found = _time_vel_two_step(valid[0], *limits)
+            else:
+                found = _time_acc1_vel_two_step(valid[0], *limits)
+            if found:
+                return keep(valid, 0)
+    return 0
 
 
 @njit(cache=True, error_model="numpy")

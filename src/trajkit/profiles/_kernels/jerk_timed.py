@@ -32,6 +32,8 @@ import math
 import numpy as np
 from numba import njit
 
+# The reference's std::min and std::max, NaN handling included.
+from trajkit.profiles._kernels.brake import _max, _min
 from trajkit.profiles._kernels.layout import (
     ACC0,
     ACC0_ACC1,
@@ -73,18 +75,6 @@ _ACC0 = np.int64(ACC0)
 _ACC1 = np.int64(ACC1)
 _VEL = np.int64(VEL)
 _NONE = np.int64(NONE)
-
-
-@njit(cache=True, error_model="numpy")
-def _min(a, b):
-    """``std::min``: ``b`` only if strictly smaller (so a NaN in ``b`` loses)."""
-    return b if b < a else a
-
-
-@njit(cache=True, error_model="numpy")
-def _max(a, b):
-    """``std::max``: ``b`` only if strictly larger."""
-    return b if a < b else a
 
 
 @njit(cache=True, error_model="numpy")

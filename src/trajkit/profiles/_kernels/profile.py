@@ -12,37 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from trajkit.profiles._kernels.layout import (
-    ACC0,
-    ACC0_ACC1,
-    ACC0_ACC1_VEL,
-    ACC0_VEL,
-    ACC1,
-    ACC1_VEL,
-    AF,
-    BRAKE_A,
-    BRAKE_DURATION,
-    BRAKE_J,
-    BRAKE_P,
-    BRAKE_T,
-    BRAKE_V,
-    DIRECTION,
-    DOWN,
-    LIMITS,
-    PF,
-    SIGNS,
-    SIZE,
-    T_SUM,
-    UDDU,
-    UP,
-    VEL,
-    VF,
-    A,
-    J,
-    P,
-    T,
-    V,
-)
+from trajkit.profiles._kernels import layout as L
 from trajkit.profiles._kernels.roots import solve_cubic
 
 V_EPS = 1e-12
@@ -62,7 +32,7 @@ REUSE_WITHIN = 2.0 * EPS
 @njit(cache=True, error_model="numpy")
 def new_profile():
     """An empty record (all zero: no brake, at rest)."""
-    return np.zeros(SIZE)
+    return np.zeros(L.SIZE)
 
 
 @njit(cache=True, error_model="numpy")
@@ -76,33 +46,55 @@ def integrate(t, p0, v0, a0, j):
 
 
 @njit(cache=True, error_model="numpy")
+def _integrate_phase(prof, i):
+    """The state at the end of phase ``i`` of a jerk-limited record, from its start."""
+    p, v, a = integrate(prof[L.T + i], prof[L.P + i], prof[L.V + i], prof[L.A + i], prof[L.J + i])
+    prof[L.P + i + 1] = p
+    prof[L.V + i + 1] = v
+    prof[L.A + i + 1] = a
+
+
+@njit(cache=True, error_model="numpy")
 def set_boundary(prof, p0, v0, a0, pf, vf, af):
     """Start and target state of a position move."""
-    prof[P] = p0
-    prof[V] = v0
-    prof[A] = a0
-    prof[PF] = pf
-    prof[VF] = vf
-    prof[AF] = af
+    prof[L.P] = p0
+    prof[L.V] = v0
+    prof[L.A] = a0
+    prof[L.PF] = pf
+    prof[L.VF] = vf
+    prof[L.AF] = af
 
 
 @njit(cache=True, error_model="numpy")
 def copy_boundary(dst, src):
     """Start, target and brake pre-profile of ``src`` into ``dst``."""
-    dst[P] = src[P]
-    dst[V] = src[V]
-    dst[A] = src[A]
-    dst[PF] = src[PF]
-    dst[VF] = src[VF]
-    dst[AF] = src[AF]
-    for k in range(BRAKE_DURATION, BRAKE_P + 2):
+    dst[L.P] = src[L.P]
+    dst[L.V] = src[L.V]
+    dst[L.A] = src[L.A]
+    dst[L.PF] = src[L.PF]
+    dst[L.VF] = src[L.VF]
+    dst[L.AF] = src[L.AF]
+    for k in range(L.BRAKE_DURATION, L.BRAKE_P + 2):
         dst[k] = src[k]
+
+
+@njit(cache=True, error_model="numpy")
+def keep(valid, count):
+    """Keep the candidate in row ``count`` of ``valid``; return the new number of candidates.
+
+    The next row (scratch) receives the boundary, so that the next candidate
+    starts from the same state.
+    """
+    count += 1
+    if count < valid.shape[0]:
+        copy_boundary(valid[count], valid[count - 1])
+    return count
 
 
 @njit(cache=True, error_model="numpy")
 def duration(prof):
     """Total duration: the brake pre-profile plus the seven phases (s)."""
-    return prof[T_SUM + 6] + prof[BRAKE_DURATION]
+    return prof[L.T_SUM + 6] + prof[L.BRAKE_DURATION]
 
 
 @njit(cache=True, error_model="numpy")
@@ -110,20 +102,20 @@ def _running_sums(prof):
     """Fill ``t_sum``; False if a duration is negative or the total absurd."""
     total = 0.0
     for i in range(7):
-        if prof[T + i] < 0.0:
+        if prof[L.T + i] < 0.0:
             return False
-        total += prof[T + i]
-        prof[T_SUM + i] = total
+        total += prof[L.T + i]
+        prof[L.T_SUM + i] = total
     return total <= T_MAX
 
 
 @njit(cache=True, error_model="numpy")
 def _set_jerks(prof, signs, jf):
     """Jerks of the seven phases by the control signs (zero on empty phases)."""
-    third = -jf if signs == UDDU else jf
+    third = -jf if signs == L.UDDU else jf
     pattern = (jf, 0.0, -jf, 0.0, third, 0.0, -third)
     for i in range(7):
-        prof[J + i] = pattern[i] if prof[T + i] > 0.0 else 0.0
+        prof[L.J + i] = pattern[i] if prof[L.T + i] > 0.0 else 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -144,66 +136,59 @@ def check(prof, signs, limits, jf, v_max, v_min, a_max, a_min, set_limits=False)
     """
     if not _running_sums(prof):
         return False
-    if limits == ACC0_ACC1_VEL or limits == ACC0_VEL or limits == ACC1_VEL or limits == VEL:
-        if prof[T + 3] < EPS:
+    if limits == L.ACC0_ACC1_VEL or limits == L.ACC0_VEL or limits == L.ACC1_VEL or limits == L.VEL:
+        if prof[L.T + 3] < EPS:
             return False
-    if limits == ACC0 or limits == ACC0_ACC1:
-        if prof[T + 1] < EPS:
+    if limits == L.ACC0 or limits == L.ACC0_ACC1:
+        if prof[L.T + 1] < EPS:
             return False
-    if limits == ACC1 or limits == ACC0_ACC1:
-        if prof[T + 5] < EPS:
+    if limits == L.ACC1 or limits == L.ACC0_ACC1:
+        if prof[L.T + 5] < EPS:
             return False
     _set_jerks(prof, signs, jf)
     up = v_max > 0.0
-    prof[DIRECTION] = UP if up else DOWN
+    prof[L.DIRECTION] = L.UP if up else L.DOWN
     v_upp, v_low = _velocity_bounds(v_max, v_max, v_min)
     coasts = (
-        limits == ACC0_ACC1_VEL
-        or limits == ACC0_ACC1
-        or limits == ACC0_VEL
-        or limits == ACC1_VEL
-        or limits == VEL
+        limits == L.ACC0_ACC1_VEL
+        or limits == L.ACC0_ACC1
+        or limits == L.ACC0_VEL
+        or limits == L.ACC1_VEL
+        or limits == L.VEL
     )
     for i in range(7):
-        t = prof[T + i]
-        j = prof[J + i]
-        a = prof[A + i]
-        v = prof[V + i]
-        p = prof[P + i]
-        prof[A + i + 1] = a + t * j
-        prof[V + i + 1] = v + t * (a + t * j / 2.0)
-        prof[P + i + 1] = p + t * (v + t * (a / 2.0 + t * j / 6.0))
+        _integrate_phase(prof, i)
         if coasts and i == 2:
-            prof[A + 3] = 0.0
+            prof[L.A + 3] = 0.0
         if set_limits:
-            if limits == ACC1 and i == 2:
-                prof[A + 3] = a_min
-            if limits == ACC0_ACC1:
+            if limits == L.ACC1 and i == 2:
+                prof[L.A + 3] = a_min
+            if limits == L.ACC0_ACC1:
                 if i == 0:
-                    prof[A + 1] = a_max
+                    prof[L.A + 1] = a_max
                 if i == 4:
-                    prof[A + 5] = a_min
+                    prof[L.A + 5] = a_min
         # A velocity extremum inside a phase whose acceleration changes sign.
-        if i > 1 and prof[A + i + 1] * prof[A + i] < -EPS:
-            v_a_zero = prof[V + i] - prof[A + i] * prof[A + i] / (2.0 * prof[J + i])
+        if i > 1 and prof[L.A + i + 1] * prof[L.A + i] < -EPS:
+            v_a_zero = prof[L.V + i] - prof[L.A + i] * prof[L.A + i] / (2.0 * prof[L.J + i])
             if not (v_low <= v_a_zero <= v_upp):
                 return False
-    prof[SIGNS] = signs
-    prof[LIMITS] = limits
+    prof[L.SIGNS] = signs
+    prof[L.LIMITS] = limits
     a_upp = (a_max if up else a_min) + A_EPS
     a_low = (a_min if up else a_max) - A_EPS
     if not (
-        abs(prof[P + 7] - prof[PF]) < P_PRECISION
-        and abs(prof[V + 7] - prof[VF]) < V_PRECISION
-        and abs(prof[A + 7] - prof[AF]) < A_PRECISION
+        abs(prof[L.P + 7] - prof[L.PF]) < P_PRECISION
+        and abs(prof[L.V + 7] - prof[L.VF]) < V_PRECISION
+        and abs(prof[L.A + 7] - prof[L.AF]) < A_PRECISION
     ):
         return False
     for k in (1, 3, 5):
-        if not (a_low <= prof[A + k] <= a_upp):  # NaN fails too
+        if not (a_low <= prof[L.A + k] <= a_upp):  # NaN fails too
             return False
     # The start may be beyond the velocity limit (a brake pre-profile handles that).
     for k in (3, 4, 5, 6):
-        if not (v_low <= prof[V + k] <= v_upp):  # NaN fails too
+        if not (v_low <= prof[L.V + k] <= v_upp):  # NaN fails too
             return False
     return True
 
@@ -228,29 +213,30 @@ def check_second_order(prof, signs, limits, a_up, a_down, v_max, v_min):
     if not _running_sums(prof):
         return False
     for i in range(7):
-        prof[J + i] = 0.0
-    third = a_down if signs == UDDU else a_up
-    pattern = (a_up, 0.0, a_down, 0.0, third, 0.0, a_up if signs == UDDU else a_down)
+        prof[L.J + i] = 0.0
+    third = a_down if signs == L.UDDU else a_up
+    pattern = (a_up, 0.0, a_down, 0.0, third, 0.0, a_up if signs == L.UDDU else a_down)
     for i in range(7):
-        prof[A + i] = pattern[i] if prof[T + i] > 0.0 else 0.0
-    prof[A + 7] = prof[AF]
+        prof[L.A + i] = pattern[i] if prof[L.T + i] > 0.0 else 0.0
+    prof[L.A + 7] = prof[L.AF]
     up = v_max > 0.0
-    prof[DIRECTION] = UP if up else DOWN
+    prof[L.DIRECTION] = L.UP if up else L.DOWN
     v_upp, v_low = _velocity_bounds(v_max, v_max, v_min)
     for i in range(7):
-        t = prof[T + i]
-        a = prof[A + i]
-        v = prof[V + i]
-        prof[V + i + 1] = v + t * a
-        prof[P + i + 1] = prof[P + i] + t * (v + t * a / 2.0)
-    prof[SIGNS] = signs
-    prof[LIMITS] = limits
+        t = prof[L.T + i]
+        a = prof[L.A + i]
+        v = prof[L.V + i]
+        prof[L.V + i + 1] = v + t * a
+        prof[L.P + i + 1] = prof[L.P + i] + t * (v + t * a / 2.0)
+    prof[L.SIGNS] = signs
+    prof[L.LIMITS] = limits
     if not (
-        abs(prof[P + 7] - prof[PF]) < P_PRECISION and abs(prof[V + 7] - prof[VF]) < V_PRECISION
+        abs(prof[L.P + 7] - prof[L.PF]) < P_PRECISION
+        and abs(prof[L.V + 7] - prof[L.VF]) < V_PRECISION
     ):
         return False
     for k in range(2, 7):
-        if not (v_low <= prof[V + k] <= v_upp):  # NaN fails too
+        if not (v_low <= prof[L.V + k] <= v_upp):  # NaN fails too
             return False
     return True
 
@@ -270,29 +256,24 @@ def check_velocity(prof, signs, limits, jf, a_max, a_min):
     """Accept a jerk-limited velocity-interface profile (no position target)."""
     if not _running_sums(prof):
         return False
-    if limits == ACC0 and prof[T + 1] < EPS:
+    if limits == L.ACC0 and prof[L.T + 1] < EPS:
         return False
     _set_jerks(prof, signs, jf)
     for i in range(7):
-        t = prof[T + i]
-        j = prof[J + i]
-        a = prof[A + i]
-        v = prof[V + i]
-        prof[A + i + 1] = a + t * j
-        prof[V + i + 1] = v + t * (a + t * j / 2.0)
-        prof[P + i + 1] = prof[P + i] + t * (v + t * (a / 2.0 + t * j / 6.0))
-    prof[SIGNS] = signs
-    prof[LIMITS] = limits
+        _integrate_phase(prof, i)
+    prof[L.SIGNS] = signs
+    prof[L.LIMITS] = limits
     up = a_max > 0.0
-    prof[DIRECTION] = UP if up else DOWN
+    prof[L.DIRECTION] = L.UP if up else L.DOWN
     a_upp = (a_max if up else a_min) + A_EPS
     a_low = (a_min if up else a_max) - A_EPS
     if not (
-        abs(prof[V + 7] - prof[VF]) < V_PRECISION and abs(prof[A + 7] - prof[AF]) < A_PRECISION
+        abs(prof[L.V + 7] - prof[L.VF]) < V_PRECISION
+        and abs(prof[L.A + 7] - prof[L.AF]) < A_PRECISION
     ):
         return False
     for k in (1, 3, 5):
-        if not (a_low <= prof[A + k] <= a_upp):  # NaN fails too
+        if not (a_low <= prof[L.A + k] <= a_upp):  # NaN fails too
             return False
     return True
 
@@ -308,25 +289,25 @@ def check_velocity_with_timing(prof, signs, limits, jf, a_max, a_min, j_max):
 @njit(cache=True, error_model="numpy")
 def check_second_order_velocity(prof, signs, limits, a_up):
     """Accept an acceleration-limited velocity-interface profile: one phase at ``a_up``."""
-    if prof[T + 1] < 0.0:
+    if prof[L.T + 1] < 0.0:
         return False
     for i in range(7):
-        prof[T_SUM + i] = 0.0 if i == 0 else prof[T + 1]
-        prof[J + i] = 0.0
-    if prof[T_SUM + 6] > T_MAX:
+        prof[L.T_SUM + i] = 0.0 if i == 0 else prof[L.T + 1]
+        prof[L.J + i] = 0.0
+    if prof[L.T_SUM + 6] > T_MAX:
         return False
     for i in range(7):
-        prof[A + i] = 0.0
-    prof[A + 1] = a_up if prof[T + 1] > 0.0 else 0.0
-    prof[A + 7] = prof[AF]
+        prof[L.A + i] = 0.0
+    prof[L.A + 1] = a_up if prof[L.T + 1] > 0.0 else 0.0
+    prof[L.A + 7] = prof[L.AF]
     for i in range(7):
-        t = prof[T + i]
-        prof[V + i + 1] = prof[V + i] + t * prof[A + i]
-        prof[P + i + 1] = prof[P + i] + t * (prof[V + i] + t * prof[A + i] / 2.0)
-    prof[SIGNS] = signs
-    prof[LIMITS] = limits
-    prof[DIRECTION] = UP if a_up > 0.0 else DOWN
-    return abs(prof[V + 7] - prof[VF]) < V_PRECISION
+        t = prof[L.T + i]
+        prof[L.V + i + 1] = prof[L.V + i] + t * prof[L.A + i]
+        prof[L.P + i + 1] = prof[L.P + i] + t * (prof[L.V + i] + t * prof[L.A + i] / 2.0)
+    prof[L.SIGNS] = signs
+    prof[L.LIMITS] = limits
+    prof[L.DIRECTION] = L.UP if a_up > 0.0 else L.DOWN
+    return abs(prof[L.V + 7] - prof[L.VF]) < V_PRECISION
 
 
 @njit(cache=True, error_model="numpy")
@@ -345,25 +326,27 @@ def state_at(prof, time):
     target acceleration held, as the last phase leaves it).
     """
     t = time
-    brake_duration = prof[BRAKE_DURATION]
+    brake_duration = prof[L.BRAKE_DURATION]
     if brake_duration > 0.0 and t < brake_duration:
         k = 0
-        if t >= prof[BRAKE_T]:
-            t -= prof[BRAKE_T]
+        if t >= prof[L.BRAKE_T]:
+            t -= prof[L.BRAKE_T]
             k = 1
         p, v, a = integrate(
-            t, prof[BRAKE_P + k], prof[BRAKE_V + k], prof[BRAKE_A + k], prof[BRAKE_J + k]
+            t, prof[L.BRAKE_P + k], prof[L.BRAKE_V + k], prof[L.BRAKE_A + k], prof[L.BRAKE_J + k]
         )
-        return p, v, a, prof[BRAKE_J + k]
+        return p, v, a, prof[L.BRAKE_J + k]
     t -= brake_duration
     start = 0.0
     for i in range(7):
-        end = prof[T_SUM + i]
+        end = prof[L.T_SUM + i]
         if t < end:
-            p, v, a = integrate(t - start, prof[P + i], prof[V + i], prof[A + i], prof[J + i])
-            return p, v, a, prof[J + i]
+            p, v, a = integrate(
+                t - start, prof[L.P + i], prof[L.V + i], prof[L.A + i], prof[L.J + i]
+            )
+            return p, v, a, prof[L.J + i]
         start = end
-    p, v, a = integrate(t - start, prof[P + 7], prof[V + 7], prof[A + 7], 0.0)
+    p, v, a = integrate(t - start, prof[L.P + 7], prof[L.V + 7], prof[L.A + 7], 0.0)
     return p, v, a, 0.0
 
 
@@ -375,26 +358,26 @@ def finalize_brake(prof):
     durations and jerks; writes the brake's start states and total duration and
     moves the main profile's start to the brake's end.
     """
-    t0 = prof[BRAKE_T]
-    t1 = prof[BRAKE_T + 1]
+    t0 = prof[L.BRAKE_T]
+    t1 = prof[L.BRAKE_T + 1]
     if t0 <= 0.0 and t1 <= 0.0:
-        prof[BRAKE_DURATION] = 0.0
+        prof[L.BRAKE_DURATION] = 0.0
         return
-    ps, vs, as_ = prof[P], prof[V], prof[A]
-    prof[BRAKE_DURATION] = t0
-    prof[BRAKE_P] = ps
-    prof[BRAKE_V] = vs
-    prof[BRAKE_A] = as_
-    ps, vs, as_ = integrate(t0, ps, vs, as_, prof[BRAKE_J])
+    ps, vs, as_ = prof[L.P], prof[L.V], prof[L.A]
+    prof[L.BRAKE_DURATION] = t0
+    prof[L.BRAKE_P] = ps
+    prof[L.BRAKE_V] = vs
+    prof[L.BRAKE_A] = as_
+    ps, vs, as_ = integrate(t0, ps, vs, as_, prof[L.BRAKE_J])
     if t1 > 0.0:
-        prof[BRAKE_DURATION] += t1
-        prof[BRAKE_P + 1] = ps
-        prof[BRAKE_V + 1] = vs
-        prof[BRAKE_A + 1] = as_
-        ps, vs, as_ = integrate(t1, ps, vs, as_, prof[BRAKE_J + 1])
-    prof[P] = ps
-    prof[V] = vs
-    prof[A] = as_
+        prof[L.BRAKE_DURATION] += t1
+        prof[L.BRAKE_P + 1] = ps
+        prof[L.BRAKE_V + 1] = vs
+        prof[L.BRAKE_A + 1] = as_
+        ps, vs, as_ = integrate(t1, ps, vs, as_, prof[L.BRAKE_J + 1])
+    prof[L.P] = ps
+    prof[L.V] = vs
+    prof[L.A] = as_
 
 
 @njit(cache=True, error_model="numpy")
@@ -403,16 +386,16 @@ def finalize_brake_second_order(prof):
 
     The brake's acceleration is stored in ``brake.a[0]``.
     """
-    t0 = prof[BRAKE_T]
+    t0 = prof[L.BRAKE_T]
     if t0 <= 0.0:
-        prof[BRAKE_DURATION] = 0.0
+        prof[L.BRAKE_DURATION] = 0.0
         return
-    prof[BRAKE_DURATION] = t0
-    prof[BRAKE_P] = prof[P]
-    prof[BRAKE_V] = prof[V]
-    ps, vs, _ = integrate(t0, prof[P], prof[V], prof[BRAKE_A], 0.0)
-    prof[P] = ps
-    prof[V] = vs
+    prof[L.BRAKE_DURATION] = t0
+    prof[L.BRAKE_P] = prof[L.P]
+    prof[L.BRAKE_V] = prof[L.V]
+    ps, vs, _ = integrate(t0, prof[L.P], prof[L.V], prof[L.BRAKE_A], 0.0)
+    prof[L.P] = ps
+    prof[L.V] = vs
 
 
 @njit(cache=True, error_model="numpy")
@@ -424,13 +407,13 @@ def first_time_at_position(prof, position, time_after):
     t_cum = 0.0
     roots = np.empty(3)
     for i in range(7):
-        ti = prof[T + i]
+        ti = prof[L.T + i]
         if ti == 0.0:
             continue
-        if abs(prof[P + i] - position) < EPS and t_cum >= time_after:
+        if abs(prof[L.P + i] - position) < EPS and t_cum >= time_after:
             return t_cum
         count = solve_cubic(
-            prof[J + i] / 6.0, prof[A + i] / 2.0, prof[V + i], prof[P + i] - position, roots
+            prof[L.J + i] / 6.0, prof[L.A + i] / 2.0, prof[L.V + i], prof[L.P + i] - position, roots
         )
         best = math.inf
         for k in range(count):
@@ -440,10 +423,10 @@ def first_time_at_position(prof, position, time_after):
         if best < math.inf:
             return best + t_cum
         t_cum += ti
-    total = prof[T_SUM + 6]
+    total = prof[L.T_SUM + 6]
     if (
-        (prof[T + 6] > 0.0 or total == 0.0)
-        and abs(prof[PF] - position) < 1e-9
+        (prof[L.T + 6] > 0.0 or total == 0.0)
+        and abs(prof[L.PF] - position) < 1e-9
         and total >= time_after
     ):
         return total
@@ -453,32 +436,40 @@ def first_time_at_position(prof, position, time_after):
 @njit(cache=True, error_model="numpy")
 def set_phase_times(prof, t0, t1, t2, t3, t4, t5, t6):
     """Write the seven phase durations of a candidate."""
-    prof[T] = t0
-    prof[T + 1] = t1
-    prof[T + 2] = t2
-    prof[T + 3] = t3
-    prof[T + 4] = t4
-    prof[T + 5] = t5
-    prof[T + 6] = t6
+    prof[L.T] = t0
+    prof[L.T + 1] = t1
+    prof[L.T + 2] = t2
+    prof[L.T + 3] = t3
+    prof[L.T + 4] = t4
+    prof[L.T + 5] = t5
+    prof[L.T + 6] = t6
 
 
 @njit(cache=True, error_model="numpy")
 def set_times(prof, t0, t1, t2, t6):
     """Write a candidate's phase durations 0, 1, 2 and 6; phases 3 to 5 stay empty."""
-    prof[T] = t0
-    prof[T + 1] = t1
-    prof[T + 2] = t2
-    prof[T + 3] = 0.0
-    prof[T + 4] = 0.0
-    prof[T + 5] = 0.0
-    prof[T + 6] = t6
+    prof[L.T] = t0
+    prof[L.T + 1] = t1
+    prof[L.T + 2] = t2
+    prof[L.T + 3] = 0.0
+    prof[L.T + 4] = 0.0
+    prof[L.T + 5] = 0.0
+    prof[L.T + 6] = t6
 
 
 @njit(cache=True, error_model="numpy")
-def no_blocks(block_times):
-    """Mark both blocked intervals absent (a single profile blocks nothing)."""
+def single_profile(block_times, prof, drifts):
+    """Block times of a law whose only profile is ``prof``: its duration, no interval.
+
+    A profile that ``drifts`` (a coast or a held acceleration, with no time to
+    spare) reaches its target at one instant only: every longer duration is
+    blocked then.
+    """
+    block_times[0] = duration(prof)
     for k in range(1, 5):
         block_times[k] = math.inf
+    if drifts:
+        block_times[1] = block_times[0]
 
 
 @njit(cache=True, error_model="numpy")

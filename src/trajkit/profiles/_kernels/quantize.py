@@ -84,7 +84,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from trajkit.profiles._kernels import acceleration_limited, jerk_timed
+from trajkit.profiles._kernels import acceleration_limited, jerk_timed, synchronize
 from trajkit.profiles._kernels import admissible as rows
 from trajkit.profiles._kernels.layout import (
     AF,
@@ -108,21 +108,6 @@ from trajkit.profiles._kernels.layout import (
     P,
     T,
     V,
-)
-from trajkit.profiles._kernels.synchronize import (
-    OK,
-    OUT_DURATION,
-    OUT_JOINT,
-    OUT_LIMITING,
-    OUT_PHASE,
-    POSITION,
-    SYNC_NONE,
-    SYNC_PHASE,
-    SYNC_TIME_IF_NECESSARY,
-    _phase_law,
-    _scaled_law,
-    _step1,
-    plan,
 )
 
 # Status codes beyond those of synchronize.plan (OK ... STEP2_FAILED = 4).
@@ -435,27 +420,47 @@ def _integrate_second(rec):
 
 
 @njit(cache=True, error_model="numpy")
-def _reached_third(rec):
-    """Whether the record ends at its target, to the size of the terms that make the end up."""
-    sa = 0.0
+def _reached(rec, sa):
+    """Whether the record ends at its target velocity and position, to the size of their terms.
+
+    ``sa`` bounds the size of the acceleration's contribution to the velocity.
+    """
     sv = 0.0
     sp = 0.0
-    jmax = 0.0
     for i in range(8):
-        sa = max(sa, abs(rec[A + i]))
         sv = max(sv, abs(rec[V + i]))
         sp = max(sp, abs(rec[P + i]))
-    for i in range(7):
-        jmax = max(jmax, abs(rec[J + i]))
     total = rec[T_SUM + 6]
-    sa += jmax * total
     sv += sa * total
     sp += sv * total
     return (
-        abs(rec[A + 7] - rec[AF]) <= _STATE_TOLERANCE * sa + 1e-300
-        and abs(rec[V + 7] - rec[VF]) <= _STATE_TOLERANCE * sv + 1e-300
+        abs(rec[V + 7] - rec[VF]) <= _STATE_TOLERANCE * sv + 1e-300
         and abs(rec[P + 7] - rec[PF]) <= _STATE_TOLERANCE * sp + 1e-300
     )
+
+
+@njit(cache=True, error_model="numpy")
+def _reached_third(rec):
+    """Whether the record ends at its target, to the size of the terms that make the end up."""
+    sa = 0.0
+    jmax = 0.0
+    for i in range(8):
+        sa = max(sa, abs(rec[A + i]))
+    for i in range(7):
+        jmax = max(jmax, abs(rec[J + i]))
+    sa += jmax * rec[T_SUM + 6]
+    return abs(rec[A + 7] - rec[AF]) <= _STATE_TOLERANCE * sa + 1e-300 and _reached(rec, sa)
+
+
+@njit(cache=True, error_model="numpy")
+def _edges_within(rec, at, early_low, early_high, low, high):
+    """Whether the edges of the quantity at ``at`` keep the bounds (the early ones at the start)."""
+    if not (early_low <= rec[at] <= early_high):
+        return False
+    for i in range(1, 8):
+        if not (low <= rec[at + i] <= high):
+            return False
+    return True
 
 
 @njit(cache=True, error_model="numpy")
@@ -468,11 +473,8 @@ def _check_third(rec, lim):
     """
     if not _reached_third(rec):
         return False
-    if not (lim[_ALE] <= rec[A] <= lim[_AHE]):
+    if not _edges_within(rec, A, lim[_ALE], lim[_AHE], lim[_AL], lim[_AH]):
         return False
-    for i in range(1, 8):
-        if not (lim[_AL] <= rec[A + i] <= lim[_AH]):
-            return False
     for i in range(8):
         high = lim[_VHE] if i < 3 else lim[_VH]
         low = lim[_VLE] if i < 3 else lim[_VL]
@@ -495,31 +497,15 @@ def _check_third(rec, lim):
 @njit(cache=True, error_model="numpy")
 def _check_second(rec, lim):
     """:func:`_check_third` for a second-order record (``a[i]`` during phase i)."""
-    sv = 0.0
-    sp = 0.0
     amax_abs = 0.0
-    for i in range(8):
-        sv = max(sv, abs(rec[V + i]))
-        sp = max(sp, abs(rec[P + i]))
     for i in range(7):
         amax_abs = max(amax_abs, abs(rec[A + i]))
-    total = rec[T_SUM + 6]
-    sv += amax_abs * total
-    sp += sv * total
-    if not (
-        abs(rec[V + 7] - rec[VF]) <= _STATE_TOLERANCE * sv + 1e-300
-        and abs(rec[P + 7] - rec[PF]) <= _STATE_TOLERANCE * sp + 1e-300
-    ):
+    if not _reached(rec, amax_abs):
         return False
     for i in range(7):
         if rec[T + i] > 0.0 and not (lim[_AL] <= rec[A + i] <= lim[_AH]):
             return False
-    if not (lim[_VLE] <= rec[V] <= lim[_VHE]):
-        return False
-    for i in range(1, 8):
-        if not (lim[_VL] <= rec[V + i] <= lim[_VH]):
-            return False
-    return True
+    return _edges_within(rec, V, lim[_VLE], lim[_VHE], lim[_VL], lim[_VH])
 
 
 @njit(cache=True, error_model="numpy")
@@ -1275,10 +1261,11 @@ def _block_times(m, d, times):
     prof = np.empty(SIZE)
     valid = np.empty((6, SIZE))
     blocks = np.empty((3, SIZE))
-    found = _step1(prof, m[rows.Q0, d], m[rows.V0, d], m[rows.A0, d], m[rows.QF, d],
-                   m[rows.VF, d], m[rows.AF, d], m[rows.V_MAX, d], m[rows.V_MIN, d],
-                   m[rows.A_MAX, d], m[rows.A_MIN, d], m[rows.J_MAX, d], POSITION, valid,
-                   blocks, times)  # fmt: skip
+    found = synchronize._step1(prof, m[rows.Q0, d], m[rows.V0, d], m[rows.A0, d],
+                               m[rows.QF, d], m[rows.VF, d], m[rows.AF, d], m[rows.V_MAX, d],
+                               m[rows.V_MIN, d], m[rows.A_MAX, d], m[rows.A_MIN, d],
+                               m[rows.J_MAX, d], synchronize.POSITION, valid, blocks,
+                               times)  # fmt: skip
     if not found:
         times[0] = 0.0
         for k in range(1, 5):
@@ -1352,20 +1339,22 @@ def plan_on_grid(m, control, sync, enabled, min_duration, dt, profiles, independ
     continuous minima.
     """
     ndof = m.shape[1]
-    out[OUT_JOINT] = -1.0
+    out[synchronize.OUT_JOINT] = -1.0
     if dt > 0.0:
         for d in range(ndof):
-            if enabled[d] != 0 and control[d] != POSITION:
-                out[OUT_DURATION] = math.nan
-                out[OUT_JOINT] = d
+            if enabled[d] != 0 and control[d] != synchronize.POSITION:
+                out[synchronize.OUT_DURATION] = math.nan
+                out[synchronize.OUT_JOINT] = d
                 return VELOCITY_UNSUPPORTED
-    status = plan(m, control, sync, enabled, min_duration, 0.0, profiles, independent, out)
-    if status != OK or not dt > 0.0:
+    status = synchronize.plan(
+        m, control, sync, enabled, min_duration, 0.0, profiles, independent, out
+    )
+    if status != synchronize.OK or not dt > 0.0:
         return status
-    duration = out[OUT_DURATION]
+    duration = out[synchronize.OUT_DURATION]
     if duration == 0.0:
-        return OK
-    limiting = int(out[OUT_LIMITING])
+        return synchronize.OK
+    limiting = int(out[synchronize.OUT_LIMITING])
     cont = profiles.copy()
     for d in range(ndof):
         # The continuous laws may store the position they reached as the target.
@@ -1381,12 +1370,14 @@ def plan_on_grid(m, control, sync, enabled, min_duration, dt, profiles, independ
     # The shared law of the phase-synchronized joints, as plan found it.
     roles = np.empty(ndof, np.int64)
     for d in range(ndof):
-        roles[d] = sync[d] if enabled[d] != 0 else SYNC_NONE
+        roles[d] = sync[d] if enabled[d] != 0 else synchronize.SYNC_NONE
     scale = np.zeros(ndof)
     law_m = np.empty((11, 1))
     law = np.empty(SIZE)
     law_q = np.empty(SIZE)
-    phase = out[OUT_PHASE] == 1.0 and _phase_law(m, control, roles, enabled, scale, law_m)
+    phase = out[synchronize.OUT_PHASE] == 1.0 and synchronize._phase_law(
+        m, control, roles, enabled, scale, law_m
+    )
     if phase:
         _law_record(cont, scale, law_m, law)
     followers = np.zeros(ndof, np.bool_)
@@ -1397,26 +1388,28 @@ def plan_on_grid(m, control, sync, enabled, min_duration, dt, profiles, independ
     for d in range(ndof):
         if enabled[d] == 0:
             continue
-        if phase and roles[d] == SYNC_PHASE:
+        if phase and roles[d] == synchronize.SYNC_PHASE:
             followers[d] = True
             continue
         at_rest = abs(m[rows.VF, d]) < _EPS and abs(m[rows.AF, d]) < _EPS
-        if roles[d] != SYNC_NONE and not (roles[d] == SYNC_TIME_IF_NECESSARY and at_rest):
+        if roles[d] != synchronize.SYNC_NONE and not (
+            roles[d] == synchronize.SYNC_TIME_IF_NECESSARY and at_rest
+        ):
             synced[d] = True
             any_synced = True
             continue
         n = _quantize_own(m, d, cont[d], whole_periods(independent[d], dt), dt, profiles[d],
                           work)  # fmt: skip
         if n < 0:
-            out[OUT_JOINT] = d
+            out[synchronize.OUT_JOINT] = d
             return GRID_FAILED
         # As in plan: the slowest unsynchronized joint can set the common duration, and
         # time-if-necessary joints ending at rest take part in choosing it.
         n_longest = max(n_longest, n)
         n_sync = max(n_sync, n)
     if not any_synced:
-        out[OUT_DURATION] = n_longest * dt
-        return OK
+        out[synchronize.OUT_DURATION] = n_longest * dt
+        return synchronize.OK
     block_times = np.empty((ndof + 1, 5))
     blocked_known = np.zeros(ndof + 1, np.bool_)
     # Quantized first: the limiting joint (the hardest), then the law, then the rest.
@@ -1455,15 +1448,15 @@ def plan_on_grid(m, control, sync, enabled, min_duration, dt, profiles, independ
             for d in range(ndof):
                 if not followers[d]:
                     continue
-                _scaled_law(law_q, scale[d], m, d, profiles[d])
+                synchronize._scaled_law(law_q, scale[d], m, d, profiles[d])
                 if not check_grid_record(profiles[d], v_max[d], v_min[d], a_max[d], a_min[d],
                                          j_max[d]):  # fmt: skip
                     ok = False
                     failed = d
                     break
         if ok:
-            out[OUT_DURATION] = n * dt
-            return OK
+            out[synchronize.OUT_DURATION] = n * dt
+            return synchronize.OK
         # No joint takes a duration inside one of its blocked intervals: skip them.
         unit = ndof if failed < 0 else failed
         if not blocked_known[unit]:
@@ -1477,8 +1470,8 @@ def plan_on_grid(m, control, sync, enabled, min_duration, dt, profiles, independ
             last = max(last, n + MAX_EXTRA_PERIODS)
         else:
             n += 1
-    out[OUT_JOINT] = failed
-    out[OUT_DURATION] = math.nan
+    out[synchronize.OUT_JOINT] = failed
+    out[synchronize.OUT_DURATION] = math.nan
     return GRID_FAILED
 
 

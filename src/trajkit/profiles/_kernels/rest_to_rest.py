@@ -19,30 +19,8 @@ import math
 
 from numba import njit
 
-from trajkit.profiles._kernels.admissible import (
-    A0,
-    A_MAX,
-    A_MIN,
-    AF,
-    J_MAX,
-    Q0,
-    QF,
-    V0,
-    V_MAX,
-    V_MIN,
-    VF,
-)
-from trajkit.profiles._kernels.codes import (
-    OUT_DURATION,
-    OUT_JOINT,
-    OUT_LIMITING,
-    OUT_PHASE,
-    POSITION,
-    SYNC_NONE,
-    SYNC_PHASE,
-    SYNC_TIME,
-    SYNC_TIME_IF_NECESSARY,
-)
+from trajkit.profiles._kernels import admissible as rows
+from trajkit.profiles._kernels import codes
 from trajkit.profiles._kernels.layout import (
     ACC0,
     ACC0_ACC1,
@@ -76,14 +54,19 @@ def applies(m, control, sync, enabled):
     magnitudes that need a change of units).
     """
     for d in range(m.shape[1]):
-        if enabled[d] == 0 or control[d] != POSITION or sync[d] == SYNC_PHASE:
+        if enabled[d] == 0 or control[d] != codes.POSITION or sync[d] == codes.SYNC_PHASE:
             return False
-        if m[V0, d] != 0.0 or m[VF, d] != 0.0 or m[A0, d] != 0.0 or m[AF, d] != 0.0:
+        if (
+            m[rows.V0, d] != 0.0
+            or m[rows.VF, d] != 0.0
+            or m[rows.A0, d] != 0.0
+            or m[rows.AF, d] != 0.0
+        ):
             return False
-        v, a = m[V_MAX, d], m[A_MAX, d]
-        if m[V_MIN, d] != -v or m[A_MIN, d] != -a:
+        v, a = m[rows.V_MAX, d], m[rows.A_MAX, d]
+        if m[rows.V_MIN, d] != -v or m[rows.A_MIN, d] != -a:
             return False
-        if not (0.0 < v < math.inf and 0.0 < a < math.inf and m[J_MAX, d] > 0.0):
+        if not (0.0 < v < math.inf and 0.0 < a < math.inf and m[rows.J_MAX, d] > 0.0):
             return False
     return True
 
@@ -268,11 +251,18 @@ def plan(m, sync, min_duration, dt, profiles, independent, out):
     duration = -1.0  # below any joint's: the first synchronized one is named limiting
     limiting = -1
     for d in range(ndof):
-        own = fastest(profiles[d], m[Q0, d], m[QF, d], m[V_MAX, d], m[A_MAX, d], m[J_MAX, d])
+        own = fastest(
+            profiles[d],
+            m[rows.Q0, d],
+            m[rows.QF, d],
+            m[rows.V_MAX, d],
+            m[rows.A_MAX, d],
+            m[rows.J_MAX, d],
+        )
         if own < 0.0:
             return False
         independent[d] = own
-        if sync[d] == SYNC_TIME or sync[d] == SYNC_TIME_IF_NECESSARY:
+        if sync[d] == codes.SYNC_TIME or sync[d] == codes.SYNC_TIME_IF_NECESSARY:
             if own > duration:  # of joints that tie, the first is the limiting one
                 duration = own
                 limiting = d
@@ -281,7 +271,7 @@ def plan(m, sync, min_duration, dt, profiles, independent, out):
     if discrete:
         duration = round_up(duration, dt)
         for d in range(ndof):  # the first whose rounded minimum is the duration
-            if sync[d] != SYNC_NONE and round_up(independent[d], dt) == duration:
+            if sync[d] != codes.SYNC_NONE and round_up(independent[d], dt) == duration:
                 limiting = d
                 break
     if not math.isnan(min_duration):
@@ -291,29 +281,37 @@ def plan(m, sync, min_duration, dt, profiles, independent, out):
             limiting = -1
     # Joints on their own move as fast as they can; the slowest may set the duration.
     for d in range(ndof):
-        if sync[d] == SYNC_NONE:
+        if sync[d] == codes.SYNC_NONE:
             own = round_up(independent[d], dt) if discrete else independent[d]
             if own > duration:
                 duration = own
                 limiting = d
-    out[OUT_DURATION] = duration
-    out[OUT_LIMITING] = limiting
-    out[OUT_PHASE] = 0.0
-    out[OUT_JOINT] = -1.0
+    out[codes.OUT_DURATION] = duration
+    out[codes.OUT_LIMITING] = limiting
+    out[codes.OUT_PHASE] = 0.0
+    out[codes.OUT_JOINT] = -1.0
     if duration == 0.0:
         return True
     # A joint synchronized only if necessary ends at rest: it votes for the duration
     # but moves as fast as it can (and waits), as a joint on its own does.
     for d in range(ndof):
-        if sync[d] == SYNC_TIME:
+        if sync[d] == codes.SYNC_TIME:
             target = duration
-        elif discrete and sync[d] == SYNC_NONE:
+        elif discrete and sync[d] == codes.SYNC_NONE:
             target = round_up(independent[d], dt)
         else:
             continue
         if abs(target - independent[d]) < 2.0 * _EPS or (d == limiting and not discrete):
             continue  # its fastest profile takes the duration
         prof = profiles[d]
-        if not timed(prof, m[Q0, d], m[QF, d], target, m[V_MAX, d], m[A_MAX, d], m[J_MAX, d]):
+        if not timed(
+            prof,
+            m[rows.Q0, d],
+            m[rows.QF, d],
+            target,
+            m[rows.V_MAX, d],
+            m[rows.A_MAX, d],
+            m[rows.J_MAX, d],
+        ):
             return False
     return True

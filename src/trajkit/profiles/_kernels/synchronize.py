@@ -27,6 +27,7 @@ from trajkit.profiles._kernels import (
     rest_to_rest,
     velocity_target,
 )
+from trajkit.profiles._kernels import layout as L
 from trajkit.profiles._kernels.admissible import (
     A0,
     A_MAX,
@@ -58,28 +59,6 @@ from trajkit.profiles._kernels.codes import (  # noqa: F401 (the entry points' c
     VELOCITY,
     ZERO_LIMITS,
 )
-from trajkit.profiles._kernels.layout import (
-    AF as REC_AF,
-)
-from trajkit.profiles._kernels.layout import (
-    BRAKE_A,
-    BRAKE_DURATION,
-    BRAKE_J,
-    BRAKE_P,
-    BRAKE_T,
-    BRAKE_V,
-    PF,
-    SIZE,
-    T_SUM,
-    A,
-    J,
-    P,
-    T,
-    V,
-)
-from trajkit.profiles._kernels.layout import (
-    VF as REC_VF,
-)
 from trajkit.profiles._kernels.profile import (
     REUSE_WITHIN,
     finalize_brake,
@@ -96,26 +75,13 @@ _EPS = 2.220446049250313e-16
 
 
 @njit(cache=True, error_model="numpy")
-def _step1_raw(
-    prof,
-    p0,
-    v0,
-    a0,
-    pf,
-    vf,
-    af,
-    v_max,
-    v_min,
-    a_max,
-    a_min,
-    j_max,
-    control,
-    valid,
-    block,
-    block_times,
-):
-    """Brake, then the fastest profile and blocked intervals of one joint."""
-    for k in range(SIZE):
+def _step1_raw(prof, args, valid, block, block_times):
+    """Brake, then the fastest profile and blocked intervals of one joint.
+
+    ``args`` are :func:`_step1`'s boundary, limits and control, as it packs them.
+    """
+    p0, v0, a0, pf, vf, af, v_max, v_min, a_max, a_min, j_max, control = args
+    for k in range(L.SIZE):
         prof[k] = 0.0
     third = not math.isinf(j_max)
     if control == POSITION:
@@ -259,24 +225,35 @@ def _rescale(prof, tau, lam, origin, new_origin, inverse=False):
     j = a / tau
     if inverse:
         tau, lam, v, a, j = 1.0 / tau, lam, 1.0 / v, 1.0 / a, 1.0 / j
-    for i in range(7):
-        prof[T + i] *= tau
-        prof[T_SUM + i] *= tau
-        prof[J + i] *= j
+    _scale_rates(prof, tau, v, a, j)
     for i in range(8):
-        prof[P + i] = new_origin + _scaled(prof[P + i] - origin, lam, inverse)
-        prof[V + i] *= v
-        prof[A + i] *= a
-    prof[PF] = new_origin + _scaled(prof[PF] - origin, lam, inverse)
-    prof[REC_VF] *= v
-    prof[REC_AF] *= a
-    prof[BRAKE_DURATION] *= tau
+        prof[L.P + i] = new_origin + _scaled(prof[L.P + i] - origin, lam, inverse)
+    prof[L.PF] = new_origin + _scaled(prof[L.PF] - origin, lam, inverse)
     for k in range(2):
-        prof[BRAKE_T + k] *= tau
-        prof[BRAKE_P + k] = new_origin + _scaled(prof[BRAKE_P + k] - origin, lam, inverse)
-        prof[BRAKE_V + k] *= v
-        prof[BRAKE_A + k] *= a
-        prof[BRAKE_J + k] *= j
+        prof[L.BRAKE_P + k] = new_origin + _scaled(prof[L.BRAKE_P + k] - origin, lam, inverse)
+
+
+@njit(cache=True, error_model="numpy")
+def _scale_rates(prof, tau, v, a, j):
+    """Multiply the times of a record by ``tau``, its rates by ``v``, ``a`` and ``j`` (per order).
+
+    Positions are left to the caller, which either scales them or integrates them anew.
+    """
+    for i in range(7):
+        prof[L.T + i] *= tau
+        prof[L.T_SUM + i] *= tau
+        prof[L.J + i] *= j
+    for i in range(8):
+        prof[L.V + i] *= v
+        prof[L.A + i] *= a
+    prof[L.VF] *= v
+    prof[L.AF] *= a
+    prof[L.BRAKE_DURATION] *= tau
+    for k in range(2):
+        prof[L.BRAKE_T + k] *= tau
+        prof[L.BRAKE_V + k] *= v
+        prof[L.BRAKE_A + k] *= a
+        prof[L.BRAKE_J + k] *= j
 
 
 @njit(cache=True, error_model="numpy")
@@ -338,10 +315,10 @@ def _step1(
     if _extreme(tau, lam):
         if _step1_in_units(prof, tau, lam, args, valid, block, block_times):
             return True
-        if _step1_raw(prof, *args, valid, block, block_times):
+        if _step1_raw(prof, args, valid, block, block_times):
             return True
         return _step1_in_place(prof, args, valid, block, block_times)
-    if _step1_raw(prof, *args, valid, block, block_times) and not _jumps(
+    if _step1_raw(prof, args, valid, block, block_times) and not _jumps(
         block_times[0], p0, v0, a0, pf, vf, af, a_max, a_min, j_max
     ):
         return True
@@ -379,8 +356,7 @@ def _step1_in_place(prof, args, valid, block, block_times):
     nu = power_of_two(max(change, abs(a0) * tau, abs(af) * tau))
     a_unit = nu / tau
     j_unit = a_unit / tau
-    found = _step1_raw(
-        prof,
+    in_units = (
         0.0,
         v0 / nu,
         a0 / a_unit,
@@ -393,10 +369,8 @@ def _step1_in_place(prof, args, valid, block, block_times):
         max(a_min / a_unit, -_FAR),
         min(j_max / j_unit, _FAR) if third else j_max,
         VELOCITY,
-        valid,
-        block,
-        block_times,
     )
+    found = _step1_raw(prof, in_units, valid, block, block_times)
     if not found:
         return False
     _from_velocity_units(prof, tau, nu, p0, pf)
@@ -404,7 +378,7 @@ def _step1_in_place(prof, args, valid, block, block_times):
         _from_velocity_units(block[k], tau, nu, p0, pf)
     for k in range(5):
         block_times[k] *= tau
-    return prof[P + 7] == pf and block_times[0] > 0.0
+    return prof[L.P + 7] == pf and block_times[0] > 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -415,34 +389,24 @@ def _from_velocity_units(prof, tau, nu, p0, pf):
     exist in float64).
     """
     a_unit = nu / tau
-    j_unit = a_unit / tau
-    for i in range(7):
-        prof[T + i] *= tau
-        prof[T_SUM + i] *= tau
-        prof[J + i] *= j_unit
-    for i in range(8):
-        prof[V + i] *= nu
-        prof[A + i] *= a_unit
-    prof[REC_VF] *= nu
-    prof[REC_AF] *= a_unit
-    prof[BRAKE_DURATION] *= tau
+    _scale_rates(prof, tau, nu, a_unit, a_unit / tau)
     p = p0
     for k in range(2):
-        prof[BRAKE_T + k] *= tau
-        prof[BRAKE_V + k] *= nu
-        prof[BRAKE_A + k] *= a_unit
-        prof[BRAKE_J + k] *= j_unit
-        prof[BRAKE_P + k] = p
-        if prof[BRAKE_T + k] > 0.0:
+        prof[L.BRAKE_P + k] = p
+        if prof[L.BRAKE_T + k] > 0.0:
             p = integrate(
-                prof[BRAKE_T + k], p, prof[BRAKE_V + k], prof[BRAKE_A + k], prof[BRAKE_J + k]
+                prof[L.BRAKE_T + k],
+                p,
+                prof[L.BRAKE_V + k],
+                prof[L.BRAKE_A + k],
+                prof[L.BRAKE_J + k],
             )[0]
-    prof[P] = p
+    prof[L.P] = p
     for i in range(7):
-        prof[P + i + 1] = integrate(
-            prof[T + i], prof[P + i], prof[V + i], prof[A + i], prof[J + i]
+        prof[L.P + i + 1] = integrate(
+            prof[L.T + i], prof[L.P + i], prof[L.V + i], prof[L.A + i], prof[L.J + i]
         )[0]
-    prof[PF] = pf
+    prof[L.PF] = pf
 
 
 @njit(cache=True, error_model="numpy")
@@ -458,8 +422,7 @@ def _step1_in_units(prof, tau, lam, args, valid, block, block_times):
     v = tau / lam
     a = v * tau
     j = j_max * a * tau if math.isfinite(j_max) else j_max
-    found = _step1_raw(
-        prof,
+    in_units = (
         0.0,
         v0 * v,
         a0 * a,
@@ -472,10 +435,8 @@ def _step1_in_units(prof, tau, lam, args, valid, block, block_times):
         a_min * a,
         j,
         control,
-        valid,
-        block,
-        block_times,
     )
+    found = _step1_raw(prof, in_units, valid, block, block_times)
     _rescale(prof, tau, lam, 0.0, p0)
     for k in range(3):
         _rescale(block[k], tau, lam, 0.0, p0)
@@ -492,13 +453,13 @@ def _step2(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
     (see :func:`_step1`).
     """
     original = prof.copy()
-    p0 = prof[P]
+    p0 = prof[L.P]
     tau, lam = _units(
-        prof[PF] - p0,
-        prof[V],
-        prof[A],
-        prof[REC_VF],
-        prof[REC_AF],
+        prof[L.PF] - p0,
+        prof[L.V],
+        prof[L.A],
+        prof[L.VF],
+        prof[L.AF],
         v_max,
         v_min,
         a_max,
@@ -526,7 +487,7 @@ def _step2(prof, tf, v_max, v_min, a_max, a_min, j_max, control):
 @njit(cache=True, error_model="numpy")
 def _step2_in_units(prof, tf, tau, lam, v_max, v_min, a_max, a_min, j_max, control):
     """:func:`_step2_raw` in units ``tau`` (s), ``lam``; the record back in the caller's."""
-    origin = prof[BRAKE_P] if prof[BRAKE_DURATION] > 0.0 else prof[P]
+    origin = prof[L.BRAKE_P] if prof[L.BRAKE_DURATION] > 0.0 else prof[L.P]
     _rescale(prof, tau, lam, origin, 0.0, True)
     v = tau / lam
     a = v * tau
@@ -728,22 +689,22 @@ def _phase_law(m, control, sync, enabled, scale, law):
 def _scaled_law(law, c, m, d, prof):
     """Joint ``d``'s record: the law's scaled by ``c`` from its start, targets exact."""
     q0 = m[Q0, d]
-    for k in range(SIZE):
+    for k in range(L.SIZE):
         prof[k] = law[k]
     for i in range(7):
-        prof[J + i] = c * law[J + i]
+        prof[L.J + i] = c * law[L.J + i]
     for i in range(8):
-        prof[A + i] = c * law[A + i]
-        prof[V + i] = c * law[V + i]
-        prof[P + i] = q0 + c * law[P + i]
+        prof[L.A + i] = c * law[L.A + i]
+        prof[L.V + i] = c * law[L.V + i]
+        prof[L.P + i] = q0 + c * law[L.P + i]
     for k in range(2):
-        prof[BRAKE_J + k] = c * law[BRAKE_J + k]
-        prof[BRAKE_A + k] = c * law[BRAKE_A + k]
-        prof[BRAKE_V + k] = c * law[BRAKE_V + k]
-        prof[BRAKE_P + k] = q0 + c * law[BRAKE_P + k]
-    prof[PF] = m[QF, d]
-    prof[REC_VF] = m[VF, d]
-    prof[REC_AF] = m[AF, d]
+        prof[L.BRAKE_J + k] = c * law[L.BRAKE_J + k]
+        prof[L.BRAKE_A + k] = c * law[L.BRAKE_A + k]
+        prof[L.BRAKE_V + k] = c * law[L.BRAKE_V + k]
+        prof[L.BRAKE_P + k] = q0 + c * law[L.BRAKE_P + k]
+    prof[L.PF] = m[QF, d]
+    prof[L.VF] = m[VF, d]
+    prof[L.AF] = m[AF, d]
 
 
 @njit(cache=True, error_model="numpy")
@@ -777,11 +738,11 @@ def plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out
 def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independent, out):
     """:func:`plan` by the general laws (any problem)."""
     p0, pf, v0, vf, a0, af = m[Q0], m[QF], m[V0], m[VF], m[A0], m[AF]
-    v_min, v_max, a_min, a_max, j_max = m[V_MIN], m[V_MAX], m[A_MIN], m[A_MAX], m[J_MAX]
+    a_min, a_max, j_max = m[A_MIN], m[A_MAX], m[J_MAX]
     ndof = p0.shape[0]
     n = ndof + 1  # the joints and the phase law
-    valid = np.empty((6, SIZE))
-    blocks = np.empty((n, 3, SIZE))
+    valid = np.empty((6, L.SIZE))
+    blocks = np.empty((n, 3, L.SIZE))
     block_times = np.empty((n, 5))
     out[OUT_DURATION] = math.nan
     out[OUT_LIMITING] = -1.0
@@ -790,18 +751,19 @@ def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independ
     for d in range(ndof):
         prof = profiles[d]
         if enabled[d] == 0:
-            for k in range(SIZE):
+            for k in range(L.SIZE):
                 prof[k] = 0.0
             set_boundary(prof, p0[d], v0[d], a0[d], p0[d], v0[d], a0[d])
-            prof[P + 7] = p0[d]
-            prof[V + 7] = v0[d]
-            prof[A + 7] = a0[d]
+            prof[L.P + 7] = p0[d]
+            prof[L.V + 7] = v0[d]
+            prof[L.A + 7] = a0[d]
             block_times[d, 0] = 0.0
             for k in range(1, 5):
                 block_times[d, k] = math.inf
             blocks[d, 0] = prof
             independent[d] = 0.0
             continue
+        limits = _limits(m, d, control[d])
         found = _step1(
             prof,
             p0[d],
@@ -810,12 +772,7 @@ def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independ
             pf[d],
             vf[d],
             af[d],
-            v_max[d],
-            v_min[d],
-            a_max[d],
-            a_min[d],
-            j_max[d],
-            control[d],
+            *limits,
             valid,
             blocks[d],
             block_times[d],
@@ -834,7 +791,7 @@ def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independ
     roles[ndof] = SYNC_NONE
     scale = np.zeros(ndof)
     law_m = np.empty((11, 1))
-    law = np.empty(SIZE)
+    law = np.empty(L.SIZE)
     use_law = False
     for d in range(ndof):
         if roles[d] == SYNC_PHASE:
@@ -842,6 +799,7 @@ def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independ
     if use_law:
         use_law = _phase_law(m, control, roles, enabled, scale, law_m)
     if use_law:
+        law_limits = _limits(law_m, 0, POSITION)
         found = _step1(
             law,
             0.0,
@@ -850,12 +808,7 @@ def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independ
             law_m[QF, 0],
             law_m[VF, 0],
             law_m[AF, 0],
-            law_m[V_MAX, 0],
-            law_m[V_MIN, 0],
-            law_m[A_MAX, 0],
-            law_m[A_MIN, 0],
-            law_m[J_MAX, 0],
-            POSITION,
+            *law_limits,
             valid,
             blocks[ndof],
             block_times[ndof],
@@ -934,12 +887,7 @@ def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independ
                 blocks[ndof],
                 block_times[ndof],
                 duration,
-                law_m[V_MAX, 0],
-                law_m[V_MIN, 0],
-                law_m[A_MAX, 0],
-                law_m[A_MIN, 0],
-                law_m[J_MAX, 0],
-                POSITION,
+                _limits(law_m, 0, POSITION),
                 limiting == ndof and not discrete,
             ):
                 out[OUT_JOINT] = -1
@@ -962,19 +910,8 @@ def general_plan(m, control, sync, enabled, min_duration, dt, profiles, independ
                 own = round_up(block_times[d, 0], dt)
             else:
                 own = duration
-            if not _take_duration(
-                prof,
-                blocks[d],
-                block_times[d],
-                own,
-                v_max[d],
-                v_min[d],
-                a_max[d],
-                a_min[d],
-                j_max[d],
-                control[d],
-                False,
-            ):
+            limits = _limits(m, d, control[d])
+            if not _take_duration(prof, blocks[d], block_times[d], own, limits, False):
                 out[OUT_JOINT] = d
                 if roles[d] != SYNC_NONE and _widen_blocked(block_times[d], duration):
                     retry = True
@@ -1001,19 +938,24 @@ def _widen_blocked(times, duration):
 
 
 @njit(cache=True, error_model="numpy")
-def _take_duration(
-    prof, block, times, duration, v_max, v_min, a_max, a_min, j_max, control, is_minimum
-):
+def _limits(m, d, control):
+    """Joint ``d``'s limits in ``m`` and its ``control``, in the order of :func:`_step2`."""
+    return m[V_MAX, d], m[V_MIN, d], m[A_MAX, d], m[A_MIN, d], m[J_MAX, d], control
+
+
+@njit(cache=True, error_model="numpy")
+def _take_duration(prof, block, times, duration, limits, is_minimum):
     """Write into ``prof`` the joint's profile of exactly ``duration`` (brake included).
 
     Step 1's profiles are reused where the duration is one of theirs (the
-    minimum, or the right end of a blocked interval); otherwise step 2.
+    minimum, or the right end of a blocked interval); otherwise step 2 (``limits``
+    as :func:`_limits` gives them).
     """
     if is_minimum:
         prof[:] = block[0]
         return True
-    t_profile = duration - block[0, BRAKE_DURATION]
-    if abs(t_profile - (times[0] - block[0, BRAKE_DURATION])) < REUSE_WITHIN:
+    t_profile = duration - block[0, L.BRAKE_DURATION]
+    if abs(t_profile - (times[0] - block[0, L.BRAKE_DURATION])) < REUSE_WITHIN:
         prof[:] = block[0]
         return True
     for k in (1, 2):
@@ -1022,12 +964,12 @@ def _take_duration(
             prof[:] = block[k]
             return True
     prof[:] = block[0]
-    if _step2(prof, t_profile, v_max, v_min, a_max, a_min, j_max, control):
+    if _step2(prof, t_profile, *limits):
         return True
     # The closed forms can lose the move to cancellation when the duration dwarfs
     # the joint's own (a 1e-38 rad move stretched over seconds); a move between
     # states of rest is then its fastest profile slowed down.
-    return _slowed_down(prof, block[0], t_profile, math.isinf(j_max))
+    return _slowed_down(prof, block[0], t_profile, math.isinf(limits[4]))
 
 
 @njit(cache=True, error_model="numpy")
@@ -1038,34 +980,34 @@ def _slowed_down(prof, fastest, tf, second_order):
     accelerations by ``k**2`` and its jerks by ``k**3``: the same path, within
     the same limits, taking ``k`` times as long.
     """
-    if fastest[BRAKE_DURATION] != 0.0 or not _at_rest(fastest, second_order):
+    if fastest[L.BRAKE_DURATION] != 0.0 or not _at_rest(fastest, second_order):
         return False
-    own = fastest[T_SUM + 6]
+    own = fastest[L.T_SUM + 6]
     if not (own > 0.0 and tf >= own):
         return False
     k = tf / own
     prof[:] = fastest
     total = 0.0
     for i in range(7):
-        prof[T + i] = fastest[T + i] * k
-        total += prof[T + i]
-        prof[T_SUM + i] = total
+        prof[L.T + i] = fastest[L.T + i] * k
+        total += prof[L.T + i]
+        prof[L.T_SUM + i] = total
         if second_order:
-            prof[A + i] = fastest[A + i] / (k * k)
+            prof[L.A + i] = fastest[L.A + i] / (k * k)
         else:
-            prof[J + i] = fastest[J + i] / (k * k * k)
+            prof[L.J + i] = fastest[L.J + i] / (k * k * k)
     for i in range(7):
-        t = prof[T + i]
-        a = prof[A + i]
-        v = prof[V + i]
+        t = prof[L.T + i]
+        a = prof[L.A + i]
+        v = prof[L.V + i]
         if second_order:
-            prof[V + i + 1] = v + t * a
-            prof[P + i + 1] = prof[P + i] + t * (v + t * a / 2.0)
+            prof[L.V + i + 1] = v + t * a
+            prof[L.P + i + 1] = prof[L.P + i] + t * (v + t * a / 2.0)
         else:
-            j = prof[J + i]
-            prof[A + i + 1] = a + t * j
-            prof[V + i + 1] = v + t * (a + t * j / 2.0)
-            prof[P + i + 1] = prof[P + i] + t * (v + t * (a / 2.0 + t * j / 6.0))
+            j = prof[L.J + i]
+            prof[L.A + i + 1] = a + t * j
+            prof[L.V + i + 1] = v + t * (a + t * j / 2.0)
+            prof[L.P + i + 1] = prof[L.P + i] + t * (v + t * (a / 2.0 + t * j / 6.0))
     return True
 
 
@@ -1075,5 +1017,5 @@ def _at_rest(rec, second_order):
 
     A second-order record's ``a[0]`` is its first phase's acceleration, not a state.
     """
-    still = second_order or rec[A] == 0.0
-    return still and rec[V] == 0.0 and rec[REC_VF] == 0.0 and rec[REC_AF] == 0.0
+    still = second_order or rec[L.A] == 0.0
+    return still and rec[L.V] == 0.0 and rec[L.VF] == 0.0 and rec[L.AF] == 0.0

@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit, prange
 
 from trajkit.profiles._kernels.layout import BRAKE_A, BRAKE_J, BRAKE_T, A, J, T
-from trajkit.profiles._kernels.profile import P_PRECISION, REUSE_WITHIN, integrate
+from trajkit.profiles._kernels.profile import EPS, P_PRECISION, REUSE_WITHIN, integrate
 
 PHASES = 9  # two brake phases, seven profile phases
 # Breakpoints closer than this (relative to the duration) are one switch computed
@@ -49,11 +49,10 @@ POLISH_MAX_CHANGE = 1e-3
 # hold keeps the acceleration and velocity levels (and so the limits) as planned.
 JERK_PHASE_WEIGHT = 1e-3
 POLISH_ITERATIONS = 3
-_EPS = 2.220446049250313e-16
 # A miss of this relative size is the rounding of integrating the phases (a duration
 # an ulp off its exact value, summed with the others): the pieces absorb it, and a
 # polish would cost more than the plan.
-ROUNDING_MISS = 64.0 * _EPS
+ROUNDING_MISS = 64.0 * EPS
 
 
 @njit(cache=True, error_model="numpy")
@@ -205,11 +204,11 @@ def polish(start, target, t, u, second_order, with_position, limits):
         miss[1] = (target[1] - ends[last, 1]) / sv
         miss[2] = 0.0 if second_order else (target[2] - ends[last, 2]) / sa
         before = max(abs(miss[0]), abs(miss[1]), abs(miss[2]))
-        if before <= 4.0 * _EPS or not finish > 0.0:
+        if before <= 4.0 * EPS or not finish > 0.0:
             return
         if allowed < 0.0:
             # Rounding may move a value held at its limit by an ulp or two either way.
-            allowed = max(_excess(start, t, u, second_order, limits), 0.0) + 16.0 * _EPS
+            allowed = max(_excess(start, t, u, second_order, limits), 0.0) + 16.0 * EPS
         rows[:, :] = 0.0
         clock = 0.0
         for k in range(PHASES):
@@ -548,8 +547,8 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
                 value = math.nan  # a trapezoid's acceleration jumps: no exact value
             elif (
                 order == 0
-                and duration - finish[d] > REUSE_WITHIN + _TIME_ULPS * _EPS * duration
-                and abs(target[1, d]) * (duration - finish[d]) > _TIME_ULPS * _EPS * scale
+                and duration - finish[d] > REUSE_WITHIN + _TIME_ULPS * EPS * duration
+                and abs(target[1, d]) * (duration - finish[d]) > _TIME_ULPS * EPS * scale
             ):
                 # Still coasting at its target velocity, elsewhere: done earlier than
                 # a reused fastest profile and rounding explain, and moved on by more
@@ -560,7 +559,7 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
                 value = math.nan
             miss = abs(value - values[order])
             if miss > BOUNDARY_RTOL * scale + BOUNDARY_ATOL:
-                if not miss <= _TIME_ULPS * _EPS * duration * rate:
+                if not miss <= _TIME_ULPS * EPS * duration * rate:
                     resolved = False
                 value = math.nan
             end[order, d] = value

@@ -30,26 +30,19 @@ from trajkit.profiles._kernels.profile import (
     check_velocity,
     check_velocity_with_timing,
     copy_boundary,
-    duration,
-    no_blocks,
+    keep,
     set_times,
+    single_profile,
 )
 
 
 @njit(cache=True, error_model="numpy")
 def _accept(valid, count, limits, jf, a_max, a_min):
-    """Check the candidate in ``valid[count]``; return the new number of profiles.
-
-    An accepted profile keeps its row and the next row receives the boundary so
-    that the next candidate starts from the same state.
-    """
+    """Check the candidate in ``valid[count]``; return the new number of profiles (:func:`keep`)."""
     row = valid[count]
     if not check_velocity(row, UDDU, limits, jf, a_max, a_min):
         return count
-    count += 1
-    if count < valid.shape[0]:
-        copy_boundary(valid[count], row)
-    return count
+    return keep(valid, count)
 
 
 @njit(cache=True, error_model="numpy")
@@ -101,8 +94,7 @@ def jerk_fastest_candidates(prof, a_max, a_min, j_max, valid):
     a_max, a_min, j_max : float
         Limits (``a_min <= 0``).
     valid : ndarray
-        Scratch ``(n, SIZE)`` with ``n >= 3``; accepted profiles fill its first rows
-        in the reference's order.
+        As for :func:`.acceleration_limited.fastest_candidates`.
 
     Returns
     -------
@@ -152,11 +144,8 @@ def _zero_jerk_limit(prof, a_max, a_min, block, block_times):
         return False
     if not check_velocity(p_min, UDDU, NONE, 0.0, a_max, a_min):
         return False
-    block_times[0] = duration(p_min)
-    no_blocks(block_times)
-    if abs(a0) > EPS:
-        # Holding a nonzero acceleration reaches vf at one instant only.
-        block_times[1] = block_times[0]
+    # Holding a nonzero acceleration reaches vf at one instant only.
+    single_profile(block_times, p_min, abs(a0) > EPS)
     return True
 
 
@@ -171,14 +160,8 @@ def jerk_fastest(prof, a_max, a_min, j_max, valid, block, block_times):
         brake pre-profile.
     a_max, a_min, j_max : float
         Limits (``a_min <= 0``).
-    valid : ndarray
-        Scratch ``(n, SIZE)``, ``n >= 3``.
-    block : ndarray
-        ``(3, SIZE)`` output: the fastest profile, then the profiles at the right
-        ends of blocked intervals a and b.
-    block_times : ndarray
-        ``float64[5]`` output: ``t_min, a_left, a_right, b_left, b_right`` (``inf``
-        where an interval is absent).
+    valid, block, block_times : ndarray
+        Scratch and outputs, as for :func:`.acceleration_limited.fastest`.
 
     Returns
     -------
@@ -314,8 +297,7 @@ def acceleration_fastest(prof, a_max, a_min, valid, block, block_times):
     set_times(p_min, 0.0, vd / a_up, 0.0, 0.0)
     if not check_second_order_velocity(p_min, UDDU, ACC0, a_up):
         return False
-    block_times[0] = duration(p_min)
-    no_blocks(block_times)
+    single_profile(block_times, p_min, False)
     return True
 
 
