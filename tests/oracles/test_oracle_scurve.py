@@ -103,6 +103,45 @@ def test_single_problem_planner_agrees_with_ruckig_and_keeps_limits():
         np.testing.assert_allclose(end.velocity, p["vf"][i], atol=1e-9 * p["V"][i].max())
 
 
+def test_unsynchronized_joints_coast_on_at_their_target_acceleration_as_in_ruckig():
+    """sync=None with target accelerations: a joint done early goes on from its target
+    state at constant acceleration (ruckig's ``at_time``). Compared state by state, at
+    times up to the end, for single plans, batch rows and batch evaluation."""
+    rng = np.random.default_rng(505)
+    count, ndof = 40, 3
+    p = draw(rng, count, ndof, True)
+    for a, v in (("a0", "v0"), ("af", "vf")):
+        # Admissible: the velocity the acceleration ramps to or from stays within V.
+        room = np.sqrt(2.0 * p["J"] * np.maximum(p["V"] - np.abs(p[v]), 0.0))
+        p[a] = rng.uniform(-0.9, 0.9, (count, ndof)) * np.minimum(p["A"], room)
+    otg, inp, out = ruckig.Ruckig(ndof), ruckig.InputParameter(ndof), ruckig.Trajectory(ndof)
+    inp.synchronization = ruckig.Synchronization.No
+    kw = {"v0": p["v0"], "vf": p["vf"], "a0": p["a0"], "af": p["af"], "sync": None}
+    plans = tk.batch.scurve(p["q0"], p["qf"], p["V"], p["A"], p["J"], **kw)
+    fractions = np.linspace(0.0, 1.0, 17)
+    shared = fractions * plans.durations.max()  # batch evaluation: the same times for all
+    evaluated = [plans.evaluate(shared, order) for order in range(3)]
+    for i in range(count):
+        inp.current_position, inp.target_position = p["q0"][i], p["qf"][i]
+        inp.current_velocity, inp.target_velocity = p["v0"][i], p["vf"][i]
+        inp.current_acceleration, inp.target_acceleration = p["a0"][i], p["af"][i]
+        inp.max_velocity, inp.max_acceleration, inp.max_jerk = p["V"][i], p["A"][i], p["J"][i]
+        assert otg.calculate(inp, out) == ruckig.Result.Working
+        single = tk.scurve(p["q0"][i], p["qf"][i], p["V"][i], p["A"][i], p["J"][i],
+                           **{k: v[i] if k != "sync" else v for k, v in kw.items()})  # fmt: skip
+        assert single.duration == pytest.approx(out.duration, rel=MOVING)
+        row = plans[i]
+        np.testing.assert_array_equal(row.breakpoints, single.breakpoints)
+        np.testing.assert_array_equal(row.coefficients, single.coefficients)
+        for order in range(3):
+            ours = single.evaluate(fractions * single.duration, order)
+            theirs = np.array([out.at_time(t)[order] for t in fractions * single.duration])
+            scale = max(1.0, np.abs(theirs).max())
+            np.testing.assert_allclose(ours, theirs, rtol=0, atol=MOVING * scale)
+            np.testing.assert_allclose(evaluated[order][i], single.evaluate(shared, order),
+                                       rtol=0, atol=1e-12 * scale)  # fmt: skip
+
+
 @pytest.mark.slow
 def test_sweep_100k_problems_against_ruckig():
     """100,000 single-joint problems (half at rest, half moving) and 20,000

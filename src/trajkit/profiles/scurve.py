@@ -69,7 +69,8 @@ def scurve(
         ``info["phase_synchronized"]`` is False. ``"time_if_necessary"``: as
         ``"time"``, except joints that end at rest (``vf = af = 0``) move as fast
         as they can and wait. ``None`` (or ``"none"``): every joint as fast as it can; early ones
-        continue at their target velocity. A sequence gives one mode per joint.
+        continue from their target state at constant acceleration (``af``, as ruckig's
+        do). A sequence gives one mode per joint.
     period : float, optional
         Controller period (s); see ``grid``. Every switch on the grid costs at most
         3 periods over the continuous optimum rest to rest (measured worst: 2.27),

@@ -493,8 +493,10 @@ def pieces(start, target, t, u, second, duration, breakpoints, coefficients, end
         middle = 0.5 * (left + breakpoints[k + 1])
         for d in range(ndof):
             if middle >= finish[d]:
-                # Past its own end: from the target, at its velocity, no acceleration.
-                p, v, a, j, x = target[0, d], target[1, d], 0.0, 0.0, left - finish[d]
+                # Past its own end: on from the target state at constant acceleration,
+                # as ruckig continues a finished joint (a trapezoid's target holds none).
+                a = 0.0 if second[d] else target[2, d]
+                p, v, j, x = target[0, d], target[1, d], 0.0, left - finish[d]
             else:
                 q = phase[d]
                 for r in range(q + 1, PHASES):
@@ -538,6 +540,12 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
             2.0 * c2 + h * 6.0 * c3,
         )
         sizes = _sizes(breakpoints, coefficients, m, d)
+        # A joint done early coasts on at constant acceleration: how far its position
+        # and velocity move from the target state by the end.
+        coast = duration - finish[d]
+        early = coast > REUSE_WITHIN + _TIME_ULPS * EPS * duration
+        carried = 0.0 if second[d] else abs(target[2, d]) * coast
+        moved = (abs(target[1, d]) * coast + 0.5 * carried * coast, carried, 0.0)
         for order in range(3):
             scale = sizes[order]  # the size of this derivative's terms anywhere in the motion
             rate = sizes[order + 1]
@@ -545,14 +553,10 @@ def _end_state(target, breakpoints, coefficients, m, finish, duration, second, e
             scale += abs(value)
             if order == 2 and second[d]:
                 value = math.nan  # a trapezoid's acceleration jumps: no exact value
-            elif (
-                order == 0
-                and duration - finish[d] > REUSE_WITHIN + _TIME_ULPS * EPS * duration
-                and abs(target[1, d]) * (duration - finish[d]) > _TIME_ULPS * EPS * scale
-            ):
-                # Still coasting at its target velocity, elsewhere: done earlier than
+            elif early and moved[order] > _TIME_ULPS * EPS * scale:
+                # Still coasting from its target state, elsewhere: done earlier than
                 # a reused fastest profile and rounding explain, and moved on by more
-                # than the rounding of positions this large (the boundary tolerance
+                # than the rounding of values this large (the boundary tolerance
                 # could hide a real coast). Found by hypothesis: a joint whose fastest
                 # profile was reused for a duration set by another, 2.9e-17 rad longer,
                 # move was done 1.5e-16 s early and had coasted 3.8e-17 rad on.
