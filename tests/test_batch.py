@@ -495,3 +495,24 @@ def test_a_batch_of_one_problem_runs_the_kernel_already_compiled() -> None:
         assert plans.durations.shape == (count,)
         tk.batch.velocity_change(np.zeros((count, 2)), 1.0, 2.0, 10.0)
     assert len(kernel.signatures) == 1, kernel.signatures
+
+
+def test_a_problem_too_long_for_absolute_time_is_refused_as_alone_and_evaluates_to_nan():
+    """Found by a randomized hypothesis run: a 1.8e5 s move on a period grid whose pieces
+    miss the target beyond rounding. Alone it is refused; in a batch its row is refused
+    the same way and its values are NaN, never the unwritten memory they once were."""
+    q0, qf = np.zeros((2, 2)), np.array([[0.0, 0.0], [0.5, 0.3]])
+    v0, vf = np.array([[-73.0, 0.0], [0.0, 0.0]]), np.array([[0.01, 0.01], [0.0, 0.0]])
+    vmax = (np.array([-73.0, -73.0]), np.array([0.01, 0.01]))
+    amax = (np.array([-1.0, -1.0]), np.array([1.5, 1.0]))
+    kw = {"sync": None, "period": 0.002}
+    with pytest.raises(tk.InfeasibleError, match="too long to keep its short phases") as alone:
+        tk.trapezoidal(q0[0], qf[0], vmax, amax, v0=v0[0], vf=vf[0], **kw)
+    plans = tk.batch.trapezoidal(q0, qf, vmax, amax, v0=v0, vf=vf, **kw)
+    with pytest.raises(tk.InfeasibleError, match=r"miss its target in problem 0;"):
+        plans[0]
+    assert "177682 s" in str(alone.value)
+    values = plans.evaluate(np.array([0.0, 1.0, 60.0]), 1)
+    assert np.isnan(values[0]).all()
+    single = tk.trapezoidal(q0[1], qf[1], vmax, amax, v0=v0[1], vf=vf[1], **kw)
+    np.testing.assert_array_equal(values[1], single.velocity(np.array([0.0, 1.0, 60.0])))

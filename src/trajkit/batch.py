@@ -111,6 +111,8 @@ class BatchTrajectory(Curve):
         """Derivative ``order`` (0-3) of every problem at time(s) ``t``.
 
         ``t`` scalar gives ``(B, ndof)``; ``t`` of shape ``(m,)`` gives ``(B, m, ndof)``.
+        A problem the single planner refuses as too long to keep its short phases in
+        absolute time (``batch[i]`` raises :class:`~trajkit.InfeasibleError`) is NaN.
         """
         from trajkit.profiles._kernels.tables import evaluate_batch
 
@@ -176,6 +178,9 @@ class BatchTrajectory(Curve):
             coefficients,
             end,
         )
+        if count < 0:  # the pieces miss a target: as the single planner, refuse them
+            raise engine.unresolved(self.info["planner"], float(self.durations[i]),
+                                    f" in problem {i}")  # fmt: skip
         info = {key: _item(value, i) for key, value in self.info.items()}
         return Trajectory._trusted(
             breakpoints[: count + 1],

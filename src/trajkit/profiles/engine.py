@@ -330,6 +330,16 @@ def unpack(plan: FloatArray, ndof: int) -> tuple[FloatArray, EngineResult]:
     )
 
 
+def unresolved(planner: str, duration: float, where: str) -> InfeasibleError:
+    """The error for a plan whose pieces cannot keep it in absolute time."""
+    return InfeasibleError(
+        f"{planner}: the motion lasts {duration:.6g} s, too long to keep its short phases "
+        f"in absolute time (float64 resolves about {duration * 2.2e-16:.2g} s there), so "
+        f"it would miss its target{where}; plan it in larger time units (scale the "
+        "limits) or in parts"
+    )
+
+
 def _failure(
     planner: str, code: int, out: FloatArray, m: FloatArray, where: str, period: float = 0.0
 ) -> Exception:
@@ -361,13 +371,7 @@ def _failure(
             f"grid{where}; pass grid='duration'"
         )
     if code == _UNRESOLVED:
-        duration = float(out[0])
-        return InfeasibleError(
-            f"{planner}: the motion lasts {duration:.6g} s, too long to keep its short phases "
-            f"in absolute time (float64 resolves about {duration * 2.2e-16:.2g} s there), so "
-            f"it would miss its target{where}; plan it in larger time units (scale the "
-            "limits) or in parts"
-        )
+        return unresolved(planner, float(out[0]), where)
     if code == _SYNC_FAILED:
         return InfeasibleError(
             f"{planner}: no common duration suits every synchronized joint{where}; "

@@ -601,7 +601,8 @@ def evaluate_batch(m, t, u, second, durations, times, order, out):
     them would be a third of a large batch's memory). Each problem is turned into
     its pieces by :func:`pieces` and evaluated as its :class:`trajkit.Trajectory`
     would be: times clamped to ``[0, duration]``, the exact end state from the end
-    on where the pieces reach it.
+    on where the pieces reach it. A problem whose pieces miss a target (too long
+    for its short phases in absolute time, which ``batch[i]`` refuses) gets NaN.
     """
     count = m.shape[0]
     ndof = m.shape[2]
@@ -620,6 +621,9 @@ def evaluate_batch(m, t, u, second, durations, times, order, out):
         n_pieces = pieces(
             start, target, t[i], u[i], second[i], duration, breakpoints, coefficients, end
         )
+        if n_pieces < 0:  # pieces that miss a target (problem i refuses them): no values
+            out[i] = math.nan
+            continue
         for k in range(times.shape[0]):
             clock = min(max(times[k], 0.0), duration)
             piece = 0
