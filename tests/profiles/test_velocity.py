@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 import trajkit as tk
@@ -233,6 +233,8 @@ _limit = st.floats(0.1, 20.0, allow_nan=False)
     st.lists(st.tuples(_speed, _speed, st.floats(-1.0, 1.0), _limit, _limit), min_size=1,
              max_size=8),
 )  # fmt: skip
+# A subnormal target acceleration: reaching it takes 2.5e-324 s, which rounds to no time.
+@example(rows=[(2.0, 2.0, 5e-324, 1.0, 2.0)])
 def test_a_batch_ends_exactly_on_its_targets_within_the_limits(rows: list) -> None:
     v0, vf, af, amax, jmax = (np.array(column)[:, np.newaxis] for column in zip(*rows, strict=True))
     af = np.clip(af, -0.9 * amax, 0.9 * amax)

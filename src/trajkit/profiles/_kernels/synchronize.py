@@ -269,15 +269,18 @@ def _jumps(minimum, p0, v0, a0, pf, vf, af, a_max, a_min, j_max):
     the move's own units they get a true profile. A change of velocity alone that no
     positive duration can hold (5e-324 rad/s at 2 rad/s^2 and no jerk limit takes
     2.5e-324 s, which rounds to 0) is no jump: taking no time is its exact answer in
-    float64.
+    float64. So is a change of acceleration alone, or with it (5e-324 rad/s^2 at
+    2 rad/s^3, found by a randomized hypothesis run).
     """
     if minimum != 0.0:
         return False
-    if pf == p0 and af == a0:
+    if pf == p0:
         change = abs(vf - v0)
         time = change / max(a_max, -a_min)
         if math.isfinite(j_max):
-            time = max(time, math.sqrt(change / j_max))
+            time = max(time, math.sqrt(change / j_max), abs(af - a0) / j_max)
+        elif af != a0:
+            time = math.inf  # without a jerk limit the acceleration cannot move at all
         if time == 0.0:
             return False
     return pf != p0 or vf != v0 or af != a0
