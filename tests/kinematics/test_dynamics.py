@@ -111,6 +111,21 @@ def test_the_planar_two_link_arm_matches_its_closed_form(values):
     np.testing.assert_allclose(tau, expected, rtol=0, atol=CLOSED_FORM * scale)
 
 
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_a_slider_holds_its_weight_along_its_axis(convention):
+    """One prismatic joint at rest: the force is the weight's component along the axis."""
+    chain = SerialChain.from_dh(
+        [DHRow(a=0.3, alpha=0.7, d=0.1, theta=0.4, kind="prismatic")], convention=convention
+    )
+    inertials = inertials_from_dh(chain, [2.0], [[0.1, 0.0, 0.05]], [np.eye(3) * 0.1],
+                                  convention=convention)  # fmt: skip
+    gravity = np.array([0.5, -1.0, -9.81])
+    q = np.array([0.2])
+    axis = chain.jacobian(q)[:3, 0]
+    force = inverse_dynamics(chain, q, [0.0], [0.0], inertials=inertials, gravity=gravity)
+    np.testing.assert_allclose(force, [-2.0 * gravity @ axis], rtol=CLOSED_FORM)
+
+
 def test_a_batch_equals_its_samples_one_at_a_time():
     rng = np.random.default_rng(1)
     chain, inertials = random_arm(rng, 5)
@@ -292,3 +307,5 @@ def test_bad_states_and_gravity_are_refused():
         inverse_dynamics(chain, zero, zero, zero, inertials={"mass": [1, 2]})
     with pytest.raises(InvalidInputError, match=r"3 links of inertial data for the 2-joint"):
         inertials_from_dh(chain, [1.0] * 3, np.zeros((3, 3)), np.zeros((3, 3, 3)))
+    with pytest.raises(InvalidInputError, match=r"convention must be 'standard' or 'modified'"):
+        inertials_from_dh(chain, [1.0] * 2, np.zeros((2, 3)), np.zeros((2, 3, 3)), convention="dh")

@@ -16,6 +16,8 @@ Denavit–Hartenberg link frames (as Robotics Toolbox and manufacturers give the
 
 from __future__ import annotations
 
+from typing import Literal
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -25,33 +27,41 @@ from trajkit.kinematics.chain import SerialChain
 from trajkit.kinematics.inertials import Inertials
 from trajkit.rotations import cross_columns
 
-__all__ = ["STANDARD_GRAVITY", "Inertials", "inertials_from_dh", "inverse_dynamics"]
+__all__ = ["STANDARD_GRAVITY", "inertials_from_dh", "inverse_dynamics", "path_dynamics"]
 
 #: Gravity in the world frame (m/s²): standard gravity along -z.
 STANDARD_GRAVITY = (0.0, 0.0, -9.80665)
 
 
 def inertials_from_dh(
-    chain: SerialChain, mass: ArrayLike, center_of_mass: ArrayLike, inertia: ArrayLike
+    chain: SerialChain,
+    mass: ArrayLike,
+    center_of_mass: ArrayLike,
+    inertia: ArrayLike,
+    *,
+    convention: Literal["standard", "modified"] = "standard",
 ) -> Inertials:
-    """:class:`Inertials` from data given in a chain's standard DH link frames.
+    """:class:`Inertials` from data given in a chain's DH link frames.
 
     In the standard convention link ``i``'s frame sits at the far end of its DH row
     (``Rz(θ) Tz(d) Tx(a) Rx(α)``), where Robotics Toolbox's ``r`` and ``I`` and the
     manufacturers' tables put them; trajkit's link frame is the joint's frame, the
     row's start. The fixed rest of the row is the next joint's origin (the tool
-    transform for the last link), so the data are carried back through it.
+    transform for the last link), so the data are carried back through it. In the
+    modified convention (Craig) the link frame is the joint's frame already.
 
     Parameters
     ----------
     chain : SerialChain
-        A chain built with ``SerialChain.from_dh(..., convention="standard")``.
+        The chain built with ``SerialChain.from_dh`` in the same ``convention``.
     mass : array_like, shape (ndof,)
         Link masses (kg).
     center_of_mass : array_like, shape (ndof, 3)
         Centres of mass in the DH link frames (m).
     inertia : array_like, shape (ndof, 3, 3)
         Inertia tensors about the centres of mass, in the DH link frames (kg·m²).
+    convention : {"standard", "modified"}
+        The DH convention the data's frames follow.
 
     Returns
     -------
@@ -62,6 +72,10 @@ def inertials_from_dh(
         raise InvalidInputError(
             f"{given.ndof} links of inertial data for the {chain.ndof}-joint chain {chain.name!r}"
         )
+    if convention == "modified":
+        return given
+    if convention != "standard":
+        raise InvalidInputError(f"convention must be 'standard' or 'modified', got {convention!r}")
     rest = [j.origin for j in chain.joints[1:]] + [chain.tool]
     rotation = np.stack([t[:3, :3] for t in rest])
     shift = np.stack([t[:3, 3] for t in rest])
