@@ -928,6 +928,24 @@ def test_property_phase_sync_with_parallel_boundary_velocities(problem):
     assert_straight_line(tr, problem["q0"], problem["qf"])
 
 
+@pytest.mark.parametrize("jmax", [None, 10.0])
+def test_phase_sync_with_a_target_speed_at_the_limit_beside_a_parallel_joint(jmax):
+    """Found by a randomized hypothesis run: joint 2 ends at vmax; the law's target speed
+    (joint 1's -0.0080402 over its scale) came out an ulp past the bound joint 2's limit
+    sets, and the phase law had "no fastest profile"."""
+    q0, qf = [5.0, 0.0], [0.0, 6.21875]
+    vf = [-0.008040201005025126, 0.01]
+    if jmax is None:
+        tr = tk.trapezoidal(q0, qf, 0.01, 1.0, vf=vf, sync="phase")
+    else:
+        tr = tk.scurve(q0, qf, 0.01, 1.0, jmax, vf=vf, sync="phase")
+    assert tr.info["phase_synchronized"] is True
+    assert tr.check(tk.Limits(velocity=0.01, acceleration=1.0, jerk=jmax)).ok
+    support.assert_state(tr.position(tr.duration), qf)
+    support.assert_state(tr.velocity(tr.duration), vf)
+    assert_straight_line(tr, np.array(q0), np.array(qf))
+
+
 def test_long_move_with_a_tiny_reversal_keeps_its_boundary_states():
     # The rise is reported as exactly 0 s while the peak is -6.9e-9: the change is lost.
     # Stand still at 0, end at 0 moving at vmax after 400 s: dip to -6.9e-9 rad/s first.

@@ -72,6 +72,8 @@ from trajkit.profiles._kernels.profile import (
 _LAW = 4  # a phase-synchronized joint following the shared law (beside the SYNC_ codes)
 
 _EPS = 2.220446049250313e-16
+#: Boundary states of phase-synchronized joints count as collinear up to this (relative).
+_COLLINEAR_RTOL = 1e-13
 
 
 @njit(cache=True, error_model="numpy")
@@ -577,7 +579,23 @@ def _synchronize(block_times, sync, min_duration, dt, candidates, order):
 @njit(cache=True, error_model="numpy")
 def _collinear(x, y, ratio):
     """``x == ratio * y`` up to rounding (both sides computed from user numbers)."""
-    return abs(x - ratio * y) <= 1e-13 * (abs(x) + abs(ratio * y)) + 1e-300
+    return abs(x - ratio * y) <= _COLLINEAR_RTOL * (abs(x) + abs(ratio * y)) + 1e-300
+
+
+@njit(cache=True, error_model="numpy")
+def _onto_bounds(x, lower, upper):
+    """``x``, or the bound it passes by no more than the rounding collinearity allows.
+
+    The law's boundary rates and its bounds are different joints' numbers over their
+    scales: a joint's target speed at its limit (``vf = vmax``) can come out an ulp
+    past the bound another joint's limit sets (found by a randomized hypothesis run:
+    ``vf`` 0.01 rad/s at ``vmax`` 0.01 beside a parallel joint's -0.0080402 rad/s).
+    """
+    if x > upper and x - upper <= _COLLINEAR_RTOL * abs(upper):
+        return upper
+    if x < lower and lower - x <= _COLLINEAR_RTOL * abs(lower):
+        return lower
+    return x
 
 
 @njit(cache=True, error_model="numpy")
@@ -676,10 +694,10 @@ def _phase_law(m, control, sync, enabled, scale, law):
         j_bound = min(j_bound, m[J_MAX, d] / abs(c))
     law[Q0, 0] = 0.0
     law[QF, 0] = ratios[0]
-    law[V0, 0] = ratios[1]
-    law[A0, 0] = ratios[2]
-    law[VF, 0] = ratios[3]
-    law[AF, 0] = ratios[4]
+    law[V0, 0] = _onto_bounds(ratios[1], v_lower, v_upper)
+    law[A0, 0] = _onto_bounds(ratios[2], a_lower, a_upper)
+    law[VF, 0] = _onto_bounds(ratios[3], v_lower, v_upper)
+    law[AF, 0] = _onto_bounds(ratios[4], a_lower, a_upper)
     law[V_MIN, 0] = v_lower
     law[V_MAX, 0] = v_upper
     law[A_MIN, 0] = a_lower
