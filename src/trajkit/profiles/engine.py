@@ -394,6 +394,13 @@ def _failure(
                 "in parts"
             )
     step = "fastest profile" if code == _STEP1_FAILED else "profile of the common duration"
+    if joint < 0:  # the shared time law of the phase-synchronized joints
+        every = "; ".join(f"joint {d + 1}: {state(d)}" for d in range(m.shape[1]))
+        return InfeasibleError(
+            f"{planner}: the engine found no {step} for the phase-synchronized joints' shared "
+            f"time law{where} (a numerical failure of the engine; please report it with these "
+            f"numbers: {every})"
+        )
     return InfeasibleError(
         f"{planner}: the engine found no {step} for joint {joint + 1}{where} (a numerical failure "
         f"of the engine; please report it with these numbers: {state(joint)})"
