@@ -120,13 +120,8 @@ def inverse_dynamics(
         Shapes that do not match the chain, NaN/inf, or no inertial data.
     """
     inertials = _inertials_for(chain, inertials)
-    configs, single = chain.configurations(q)
-    rates = _like("qd", qd, configs.shape, single)
-    accelerations = _like("qdd", qdd, configs.shape, single)
-    g = finite_array("gravity", gravity, unit="m/s²")
-    if g.shape != (3,):
-        raise InvalidInputError(f"gravity must be a 3-vector (m/s²), got shape {g.shape}")
-    torque = _newton_euler(chain, inertials, configs, rates, accelerations, g)
+    configs, rates, accelerations, g, single = _states(chain, q, qd, qdd, gravity)
+    torque = _newton_euler(chain, inertials, _frames(chain, configs), rates, accelerations, g)
     return torque[0] if single else torque
 
 
@@ -159,11 +154,16 @@ def path_dynamics(
     a, b, c : ndarray, shape (ndof,) or (m, ndof)
         N·m (or N) per unit of ``s̈``, of ``ṡ²`` and alone.
     """
-    still = (0.0, 0.0, 0.0)
-    zero = np.zeros_like(finite_array("dq", dq))
-    a = inverse_dynamics(chain, q, zero, dq, inertials=inertials, gravity=still)
-    b = inverse_dynamics(chain, q, dq, ddq, inertials=inertials, gravity=still)
-    c = inverse_dynamics(chain, q, zero, zero, inertials=inertials, gravity=gravity)
+    inertials = _inertials_for(chain, inertials)
+    configs, rate, curve, g, single = _states(chain, q, dq, ddq, gravity, names=("dq", "ddq"))
+    frames = _frames(chain, configs)  # one pass along the chain serves all three terms
+    zero, still = np.zeros_like(rate), np.zeros(3)
+    terms = (
+        _newton_euler(chain, inertials, frames, zero, rate, still),
+        _newton_euler(chain, inertials, frames, rate, curve, still),
+        _newton_euler(chain, inertials, frames, zero, zero, g),
+    )
+    a, b, c = (term[0] if single else term for term in terms)
     return a, b, c
 
 
@@ -188,6 +188,24 @@ def _inertials_for(chain: SerialChain, inertials: Inertials | None) -> Inertials
     return inertials
 
 
+def _states(
+    chain: SerialChain,
+    q: ArrayLike,
+    rate: ArrayLike,
+    second: ArrayLike,
+    gravity: ArrayLike,
+    names: tuple[str, str] = ("qd", "qdd"),
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, bool]:
+    """``q`` and its two derivatives as (m, ndof) rows, gravity, and whether one was given."""
+    configs, single = chain.configurations(q)
+    first = _like(names[0], rate, configs.shape, single)
+    other = _like(names[1], second, configs.shape, single)
+    g = finite_array("gravity", gravity, unit="m/s²")
+    if g.shape != (3,):
+        raise InvalidInputError(f"gravity must be a 3-vector (m/s²), got shape {g.shape}")
+    return configs, first, other, g, single
+
+
 def _like(name: str, value: ArrayLike, shape: tuple[int, int], single: bool) -> FloatArray:
     array = finite_array(name, value)
     if single and array.shape == shape[1:]:
@@ -198,24 +216,29 @@ def _like(name: str, value: ArrayLike, shape: tuple[int, int], single: bool) -> 
     return array
 
 
+def _frames(chain: SerialChain, q: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Each link's rotation (n, 3, 3, m), joint axis and frame origin (n, 3, m), world frame."""
+    chain_pass = chain._pass(q, keep_rotations=True)
+    origins = chain_pass.positions.copy()
+    value = (q + chain._offsets).T
+    for i in np.flatnonzero(~chain._revolute):
+        # A slide joint carries its link along the axis; the pass gives where it starts.
+        origins[i] += chain_pass.axes[i] * value[i]
+    return chain_pass.rotations, chain_pass.axes, origins
+
+
 def _newton_euler(
     chain: SerialChain,
     inertials: Inertials,
-    q: FloatArray,
+    frames: tuple[FloatArray, FloatArray, FloatArray],
     qd: FloatArray,
     qdd: FloatArray,
     gravity: FloatArray,
 ) -> FloatArray:
     """The recursion, component-major: every vector is (3, m), one column per sample."""
-    m, n = q.shape
-    chain_pass = chain._pass(q, keep_rotations=True)
-    rotations, axes = chain_pass.rotations, chain_pass.axes
-    origins = chain_pass.positions.copy()
-    value = (q + np.array([j.offset for j in chain.joints])).T
-    revolute = chain.revolute
-    for i in np.flatnonzero(~revolute):
-        # A slide joint carries its link along the axis; the pass gives where it starts.
-        origins[i] += axes[i] * value[i]
+    m, n = qd.shape
+    rotations, axes, origins = frames
+    revolute = chain._revolute
     # Gravity acts as if the base accelerated upwards, so no link needs a weight term.
     accel = np.broadcast_to(-gravity[:, None], (3, m))
     omega = alpha = np.zeros((3, m))
