@@ -256,9 +256,10 @@ def test_a_chain_without_inertial_data_is_refused_by_name():
 
 
 def test_missing_inertias_are_named():
-    arm = UR5()  # masses only: the centres of mass and inertias are not given
-    with pytest.raises(InvalidInputError, match=r"no center_of_mass, inertia in .*UR5"):
-        inverse_dynamics(arm, np.zeros(6), np.zeros(6), np.zeros(6))
+    arm = UR5()
+    masses_only = arm.with_physical(Physical(link_mass=arm.physical.link_mass, source="UR5 masses"))
+    with pytest.raises(InvalidInputError, match=r"no center_of_mass, inertia in .*UR5 masses"):
+        inverse_dynamics(masses_only, np.zeros(6), np.zeros(6), np.zeros(6))
 
 
 GOOD = {"mass": [1.0, 2.0], "center_of_mass": np.zeros((2, 3)), "inertia": np.zeros((2, 3, 3))}

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike, NDArray
 from trajkit._validation import finite_array, positive_scalar
 from trajkit.errors import InvalidInputError, UnreachableError
 from trajkit.kinematics.chain import DHRow, Joint, SerialChain, _translation
+from trajkit.kinematics.dynamics import inertials_from_dh
 from trajkit.kinematics.ik import IKSolution, parse_targets
 from trajkit.kinematics.physical import Physical
 from trajkit.rotations import homogeneous
@@ -401,9 +402,27 @@ def UR5() -> SerialChain:
         "wrist_3",
     ]
     arm = SerialChain.from_dh(table, names=names, name="UR5")
+    mass = [3.7, 8.393, 2.33, 1.219, 1.219, 0.1879]
+    # Centres of mass in the DH link frames, as Universal Robots publishes them for
+    # dynamics (Robotics Toolbox's UR5 has the same).
+    com = [[0.0, -0.02561, 0.00193], [0.2125, 0.0, 0.11336], [0.15, 0.0, 0.0265],
+           [0.0, -0.0018, 0.01634], [0.0, 0.0018, 0.01634], [0.0, 0.0, -0.001159]]  # fmt: skip
+    # UR publishes no inertia tensors for the UR5: its ROS description models each
+    # link as a solid cylinder (radius, length in m) along the link, as here: along
+    # the joint's axis (the DH frame's y, or z for the last link) or the arm (x).
+    cylinders = [(0.075, 0.178, 1), (0.06, 0.425, 0), (0.06, 0.39225, 0), (0.06, 0.095, 1),
+                 (0.06, 0.085, 1), (0.0375, 0.0305, 2)]  # fmt: skip
+    inertia = np.zeros((6, 3, 3))
+    for link, (m, (radius, length, axis)) in enumerate(zip(mass, cylinders, strict=True)):
+        across = m * (3.0 * radius**2 + length**2) / 12.0
+        inertia[link] = np.diag([across] * 3)
+        inertia[link, axis, axis] = m * radius**2 / 2.0
+    inertials = inertials_from_dh(arm, mass, com, inertia)
     return arm.with_physical(Physical(
-        link_mass=[3.7, 8.393, 2.33, 1.219, 1.219, 0.1879], link_radius=0.045,
-        source="Universal Robots' UR5 description (link masses)",
+        link_mass=mass, link_radius=0.045, effort_limit=[150.0, 150.0, 150.0, 28.0, 28.0, 28.0],
+        center_of_mass=inertials.center_of_mass, inertia=inertials.inertia,
+        source="Universal Robots' UR5 data (masses, centres of mass, joint torque limits) and "
+        "its ROS description's cylinder inertias",
     ))  # fmt: skip
 
 

@@ -23,6 +23,7 @@ slowing would change non-zero boundary speeds). Jerk limits: see
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -32,7 +33,18 @@ from trajkit._validation import FloatArray, as_float_array, finite_result, finit
 from trajkit.curve import Segmented
 from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.limits import Limits
-from trajkit.time_optimal.reachability import Channels, Stages
+from trajkit.time_optimal.constraints import (
+    COLLOCATION,
+    SAMPLES,
+    LimitCheck,
+    PathLimit,
+    ToolLimit,
+    TorqueLimit,
+    checked_limits,
+    measure,
+    refuse_unheld,
+)
+from trajkit.time_optimal.reachability import Channels, Rows, Stages
 from trajkit.time_optimal.timing import (
     GeometricPath,
     as_polynomial,
@@ -44,7 +56,7 @@ from trajkit.time_optimal.timing import (
 from trajkit.tolerances import JUMP_RTOL, LIMIT_RTOL, ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
-__all__ = ["GeometricPath", "topp"]
+__all__ = ["GeometricPath", "LimitCheck", "PathLimit", "ToolLimit", "TorqueLimit", "topp"]
 
 #: Largest boundary path speed whose square is a finite float64 (1/s).
 _MAX_SPEED = float(np.sqrt(np.finfo(np.float64).max))
@@ -55,6 +67,9 @@ MAX_GRID = 100_000
 _ROUNDS = 12
 #: Tightened bounds aim this fraction inside the bound, so a round rarely falls short.
 _MARGIN = 1e-6
+#: A torque or tool bound passed on an interval is moved in by the excess and this
+#: fraction of the bound: its neighbours, re-timed, then rarely pass it in turn.
+_INSIDE = 1e-6
 
 
 def topp(
@@ -64,6 +79,7 @@ def topp(
     grid: int | ArrayLike = 500,
     start_speed: float = 0.0,
     end_speed: float = 0.0,
+    constraints: PathLimit | Sequence[PathLimit] | None = None,
 ) -> Trajectory:
     """The time-optimal timing of ``path`` under velocity and acceleration limits.
 
@@ -86,6 +102,14 @@ def topp(
     start_speed, end_speed : float
         Path speeds ``ṡ`` at the start and at the end (units of ``s`` per second),
         >= 0. Jerk-limited timings start and end at rest.
+    constraints : TorqueLimit, ToolLimit or a list of them, optional
+        Further limits along the path: actuator torques
+        (:class:`~trajkit.time_optimal.TorqueLimit`), the tool's speed,
+        acceleration or turn rate (:class:`~trajkit.time_optimal.ToolLimit`). They
+        are kept at the ends and middle of every grid interval and then measured
+        on 16 samples of every timed piece with a curvature margin (see
+        :mod:`trajkit.time_optimal.constraints`); an interval that passes is
+        tightened and solved again. Not combined with a jerk bound.
 
     Returns
     -------
@@ -93,7 +117,9 @@ def topp(
         ``q(t)`` from t = 0: the path timed, one polynomial piece per grid
         interval, of twice the path's degree. ``info`` holds ``grid_points``,
         ``path_speed`` (ṡ at each), ``rounds`` (solves needed), ``slow_down`` (the
-        uniform factor, 1 if none) and ``path_error`` (0 for a Trajectory path).
+        uniform factor, 1 if none), ``path_error`` (0 for a Trajectory path) and,
+        with ``constraints``, ``constraint_checks`` (a
+        :class:`~trajkit.time_optimal.LimitCheck` of the result for each).
         With a jerk bound the pieces are those of the smoothed timing (three times
         the path's degree, about two per grid interval) and ``info`` holds
         ``jerk_limited``, ``grid_points``, ``rests`` (where it stops), ``windows``
@@ -107,7 +133,9 @@ def topp(
     InfeasibleError
         The boundary speeds cannot be met within the limits (the message says the
         fastest that can), or no timing keeps every limit between grid points with
-        the non-zero boundary speeds asked for.
+        the non-zero boundary speeds asked for; gravity beyond a torque limit where
+        the path rests (its ends, its corners), or torque limits that no speed
+        along the path keeps.
 
     Examples
     --------
@@ -160,6 +188,12 @@ def topp(
             )
     velocity = _sides(limits, "velocity", ndof)
     acceleration = _sides(limits, "acceleration", ndof)
+    extra = checked_limits(constraints, ndof)
+    if extra and limits.jerk is not None:
+        raise InvalidInputError(
+            "torque and tool limits are not combined with a jerk bound: pass limits "
+            "without jerk, or no constraints"
+        )
     if limits.jerk is not None:
         from trajkit.time_optimal.jerk import smoothed
 
@@ -170,8 +204,13 @@ def topp(
             )
         return smoothed(polynomial, points, limits, stray)
     # Limits near the float64 range overflow in the solve; the result is checked below.
+    if extra:
+        rests = [0] * (speeds[0] == 0.0) + [points.size - 1] * (speeds[1] == 0.0)
+        rests = np.union1d(rests, np.searchsorted(points, jumps(polynomial, 1))).astype(int)
+        refuse_unheld(extra, polynomial.evaluate(points[rests]), points[rests])
     with np.errstate(over="ignore", invalid="ignore"):
-        x, rounds, slow = optimal_x(polynomial, points, velocity, acceleration, speeds)
+        x, rounds, slow = optimal_x(polynomial, points, velocity, acceleration, speeds,
+                                    constraints=extra)  # fmt: skip
     try:
         with np.errstate(all="ignore"):
             result = timed(polynomial, points, x)
@@ -186,6 +225,8 @@ def topp(
     info = {"planner": "topp", "continuity": 1, "grid_points": points,
             "path_speed": np.sqrt(x) / slow, "rounds": rounds, "slow_down": slow,
             "path_error": stray}  # fmt: skip
+    if extra:
+        info["constraint_checks"] = [limit.check(result) for limit in extra]
     return Trajectory(result.breakpoints, result.coefficients, info=info,
                       **rest_states(polynomial, points, speeds))  # fmt: skip
 
@@ -197,6 +238,7 @@ def optimal_x(
     acceleration: tuple[FloatArray, FloatArray],
     speeds: tuple[float, float] = (0.0, 0.0),
     stops: ArrayLike = (),
+    constraints: tuple[PathLimit, ...] = (),
 ) -> tuple[FloatArray, int, float]:
     """``x = ṡ²`` at the grid points, tightened until the timed path keeps every limit.
 
@@ -212,6 +254,9 @@ def optimal_x(
         Path speeds ``ṡ`` at the start and the end (1/s).
     stops : array_like of int
         Grid indices where the path must come to rest besides its corners.
+    constraints : tuple of PathLimit
+        Torque and tool limits, measured on the timed pieces and tightened per
+        interval until kept; no uniform slow-down with them.
 
     Returns
     -------
@@ -225,7 +270,15 @@ def optimal_x(
     """
     channels = path_channels(path, s, velocity, acceleration)
     corners = np.union1d(channels.corners, np.asarray(stops, dtype=int))
-    stages = Stages(dataclasses.replace(channels, corners=corners))
+    channels = dataclasses.replace(channels, corners=corners)
+    # Per constraint: each interval's lower and upper bound as tightened, and how
+    # many rounds each side has passed.
+    bands = [[np.tile(side, (s.size - 1, 1)) for side in limit.bounds()] * 2
+             for limit in constraints]  # fmt: skip
+    for band in bands:
+        band[2], band[3] = np.zeros(band[2].shape), np.zeros(band[3].shape)
+    states = _collocated(path, s) if constraints else None
+    stages = Stages(channels, _rows(constraints, bands, states, s))
     n = s.size
     velocity_factor, acceleration_scale = np.ones(n), np.ones(n - 1)
     x_start, x_end = speeds[0] ** 2, speeds[1] ** 2
@@ -233,8 +286,11 @@ def optimal_x(
         x = stages.solve(x_start, x_end, velocity_factor, acceleration_scale)
         ratio_v, ratio_a = interval_peaks(path, s, x, velocity, acceleration)
         over_v, over_a = ratio_v > 1.0 + LIMIT_RTOL, ratio_a > 1.0 + LIMIT_RTOL
-        if not (over_v.any() or over_a.any()):
+        passed = _tighten(constraints, bands, timed(path, s, x)) if constraints else None
+        if not (over_v.any() or over_a.any() or passed):
             return x, rounds, 1.0
+        if passed:
+            stages = Stages(channels, _rows(constraints, bands, states, s))
         acceleration_scale[over_a] /= ratio_a[over_a] * (1.0 + _MARGIN)
         # The ends of an interval that ran too fast may carry at most the speed that
         # would have kept it: x / ratio², as a factor on the velocity cap.
@@ -246,12 +302,86 @@ def optimal_x(
         with np.errstate(divide="ignore", invalid="ignore"):
             wanted = target / stages.velocity_cap
         velocity_factor = np.minimum(velocity_factor, np.where(np.isnan(wanted), np.inf, wanted))
+    if constraints:
+        timing = timed(path, s, x)
+        worst = max((limit.check(timing) for limit in constraints), key=lambda c: c.ratio.max())
+        raise InfeasibleError(
+            f"no timing on this grid keeps the torque and tool limits after {_ROUNDS} "
+            f"rounds of tightening: {worst.worst}; lower the limits' demands or check "
+            "that the arm can hold the path against gravity"
+        )
     if x_start > 0.0 or x_end > 0.0:
         raise InfeasibleError(
             "the timing could not be made to keep every limit between grid points with "
             "non-zero boundary speeds: use a finer grid or lower boundary speeds"
         )
     return x, _ROUNDS, float(max(ratio_v.max(), np.sqrt(ratio_a.max()), 1.0) * (1 + ROUNDING_RTOL))
+
+
+def _collocated(path: Trajectory, s: FloatArray) -> tuple[FloatArray, ...]:
+    """``σ`` and ``q, q', q''`` at the collocation points of every interval, (N * F, ...)."""
+    fractions = np.asarray(COLLOCATION)
+    sigma = np.diff(s)[:, None] * fractions
+    points = s[:-1, None] + sigma
+    # An interval's own end is read from its side: the tangent may jump there.
+    points[:, fractions == 1.0] = np.nextafter(s[1:, None], -np.inf)
+    flat = points.ravel()
+    return (sigma.ravel(), *(path.evaluate(flat, order) for order in range(3)))
+
+
+def _rows(
+    constraints: tuple[PathLimit, ...],
+    bands: list[list[FloatArray]],
+    states: tuple[FloatArray, ...] | None,
+    s: FloatArray,
+) -> Rows | None:
+    """Every constraint's rows at the collocation points: ``A u + B (x_i + 2uσ) + C``."""
+    if not constraints or states is None:
+        return None
+    sigma, q, dq, ddq = states
+    count = s.size - 1
+    columns: list[list[FloatArray]] = [[], [], [], []]
+    for limit, (lower, upper, _, _) in zip(constraints, bands, strict=True):
+        per_point = [np.repeat(side, len(COLLOCATION), axis=0) for side in (lower, upper)]
+        a, b, c, low, high = limit.rows(q, dq, ddq, *per_point)
+        for column, value in zip(columns, (a + 2.0 * sigma[:, None] * b, b, low - c, high - c),
+                                 strict=True):  # fmt: skip
+            column.append(value.reshape(count, -1))
+    on_u, on_x, lower_rows, upper_rows = (np.concatenate(c, axis=1) for c in columns)
+    return Rows(on_u, on_x, lower_rows, upper_rows)
+
+
+def _tighten(
+    constraints: tuple[PathLimit, ...],
+    bands: list[list[FloatArray]],
+    timing: Trajectory,
+) -> bool:
+    """Move each interval's bands in by what its timed piece passed them; True if any did.
+
+    The bound of an interval also rests on its neighbours' timing, so moving it by
+    the excess alone may halve the excess only; a side that passes again moves by
+    twice as much each time.
+    """
+    passed = False
+    for limit, (lower, upper, hits_lo, hits_hi) in zip(constraints, bands, strict=True):
+        high, low, _ = measure(limit, timing, SAMPLES)
+        bound_lo, bound_hi = limit.bounds()
+        size = np.maximum(np.abs(np.where(np.isfinite(bound_lo), bound_lo, 0.0)),
+                          np.abs(np.where(np.isfinite(bound_hi), bound_hi, 0.0)))  # fmt: skip
+        over_hi = high - bound_hi
+        over_lo = bound_lo - low
+        slack = LIMIT_RTOL * size
+        hit_hi, hit_lo = over_hi > slack, over_lo > slack
+        if hit_hi.any() or hit_lo.any():
+            passed = True
+            # In by the excess and a little more (_INSIDE of the bound), so that the
+            # neighbours' re-timing rarely needs another round.
+            inside = slack + _INSIDE * size
+            upper -= np.where(hit_hi, (over_hi + inside) * 2.0**hits_hi, 0.0)
+            lower += np.where(hit_lo, (over_lo + inside) * 2.0**hits_lo, 0.0)
+            hits_hi += hit_hi
+            hits_lo += hit_lo
+    return passed
 
 
 def path_channels(

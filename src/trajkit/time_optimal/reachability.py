@@ -32,7 +32,7 @@ from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
 from trajkit.tolerances import LIMIT_RTOL, ROUNDING_RTOL
 
-__all__ = ["Channels", "Stages"]
+__all__ = ["Channels", "Rows", "Stages"]
 
 #: A channel whose path derivative is below this (relative) does not bound ``u``.
 _FLAT = 1e-12
@@ -61,6 +61,22 @@ class Channels:
     velocity: tuple[FloatArray, FloatArray]
     acceleration: tuple[FloatArray, FloatArray]
     corners: np.ndarray
+
+
+@dataclass(frozen=True)
+class Rows:
+    """Further bounds of each stage, given as data: ``lower <= on_u u + on_x x_i <= upper``.
+
+    Each array has shape (N, r): one row per bound and stage, ``x_i`` the stage's
+    entering ``ṡ²`` and ``u`` its ``s̈`` (see :mod:`trajkit.time_optimal.constraints`,
+    which builds them for torque and tool limits). Unlike the channels' rows they
+    are not scaled by the solver's acceleration scale.
+    """
+
+    on_u: FloatArray
+    on_x: FloatArray
+    lower: FloatArray
+    upper: FloatArray
 
 
 def _bernstein(degree: int) -> FloatArray:
@@ -92,7 +108,7 @@ class Stages:
     (acceleration) and the problem re-solved cheaply: only the bounds' offsets scale.
     """
 
-    def __init__(self, channels: Channels) -> None:
+    def __init__(self, channels: Channels, extra: Rows | None = None) -> None:
         s, slope = channels.s, channels.slope
         vel_lo, vel_hi = channels.velocity
         acc_lo, acc_hi = channels.acceleration
@@ -118,35 +134,50 @@ class Stages:
                               _rate_cap(left, vel_lo, vel_hi, scale))  # fmt: skip
         # The maximum velocity curve of the rows at each point alone: an upper bound
         # of each stage's, which Newton steps below bring down to it.
-        near = _affine_rows(first, second, acc_lo, acc_hi, np.asarray(_FLAT * scale))
-        at_points = _maximum_velocity_curve(*near, first, second, acc_lo, acc_hi, scale)
+        flat = np.asarray(_FLAT * scale)
+        near = _affine_rows(first, second, acc_lo, acc_hi, flat)
+        at_points = _maximum_velocity_curve(*near, first, second, acc_lo, acc_hi, flat)
         # Acceleration rows: Bernstein coefficients of c'' (on x_i) and c' + 2σ c'' (on u).
         on_u = np.einsum("cj,jnm->cnm", hull, (1.0 + 2.0 * powers) * ascending)
         on_x = np.einsum("cj,jnm->cnm", hull, rate_of)
         # Stages along axis 0, rows along axis 1.
         slope_u, curve_x = (r.transpose(1, 0, 2).reshape(delta.size, -1) for r in (on_u, on_x))
-        low_b = np.tile(acc_lo, on_u.shape[0])
-        high_b = np.tile(acc_hi, on_u.shape[0])
-        valid, rate, high, low = _affine_rows(slope_u, curve_x, low_b, high_b,
-                                              np.asarray(_FLAT * scale))  # fmt: skip
+        low_b = np.broadcast_to(np.tile(acc_lo, on_u.shape[0]), slope_u.shape)
+        high_b = np.broadcast_to(np.tile(acc_hi, on_u.shape[0]), slope_u.shape)
+        threshold = np.full(slope_u.shape, _FLAT * scale)
+        self._scaled = np.ones(slope_u.shape[1], dtype=bool)
+        if extra is not None and extra.on_u.shape[1]:
+            # Each further row is flat (bounds x alone) where its u term is negligible
+            # beside that row's largest along the path.
+            own = _FLAT * np.abs(extra.on_u).max(axis=0, keepdims=True)
+            theirs = np.broadcast_to(own, extra.on_u.shape)
+            pairs = ((slope_u, extra.on_u), (curve_x, extra.on_x), (low_b, extra.lower),
+                     (high_b, extra.upper), (threshold, theirs))  # fmt: skip
+            slope_u, curve_x, low_b, high_b, threshold = (
+                np.concatenate(pair, axis=1) for pair in pairs
+            )
+            self._scaled = np.append(self._scaled, np.zeros(extra.on_u.shape[1], dtype=bool))
+        valid, rate, high, low = _affine_rows(slope_u, curve_x, low_b, high_b, threshold)
         # Each stage's own maximum velocity curve: the largest x_i for which some u
         # keeps every acceleration row of the interval, found by Newton steps from
         # above. Only up to a few times the velocity cap matters; where even the
         # points' curve is infinite (every channel still), pairs of rows give the start.
         start = np.minimum(4.0 * at_point[:-1], at_points[:-1])
+        rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, threshold)
+        # Flat rows bound x alone: x <= bound / on_x on the side on_x points to.
+        with np.errstate(divide="ignore", invalid="ignore"):
+            flat_cap = np.where(curve_x > 0, high_b / curve_x,
+                                np.where(curve_x < 0, low_b / curve_x, np.inf))  # fmt: skip
+        flat_cap = np.where(valid | np.isnan(flat_cap), np.inf, np.maximum(flat_cap, 0.0))
+        start = np.minimum(start, flat_cap.min(axis=1))
         unbounded = np.flatnonzero(~np.isfinite(start))
         if unbounded.size:
-            rows = (valid, rate, high, low, slope_u, curve_x)
-            start[unbounded] = _maximum_velocity_curve(
-                *(r[unbounded] for r in rows), low_b, high_b, scale
-            )
+            start[unbounded] = _maximum_velocity_curve(*(r[unbounded] for r in rows))
         stage_cap, doubt = _feasible_below(start, valid, rate, high, low)
         if doubt.any():  # all pairs of rows, exactly
-            rows = (valid, rate, high, low, slope_u, curve_x)
             k = np.flatnonzero(doubt)
-            stage_cap[k] = np.minimum(start[k], _maximum_velocity_curve(
-                *(r[k] for r in rows), low_b, high_b, scale))  # fmt: skip
-        self._rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, scale)
+            stage_cap[k] = np.minimum(start[k], _maximum_velocity_curve(*(r[k] for r in rows)))
+        self._rows = rows
         self.acceleration_cap = np.append(stage_cap, at_points[-1])
         self._exact = np.zeros(delta.size + 1, dtype=bool)
         self.velocity_cap = self._rates_inside(ascending, at_point, vel_lo, vel_hi)
@@ -236,7 +267,7 @@ class Stages:
                     f"{name} {np.sqrt(x):g} breaks the limits there: at most "
                     f"{np.sqrt(allowed):.6g} (path parameter per second)"
                 )
-        scale = acceleration_scale[:, None]
+        scale = np.where(self._scaled, acceleration_scale[:, None], 1.0)
         # Backward, from the end: reach_i = clip(min_j shrink (reach_{i+1} - pull), 0, cap_i).
         a = self._shrink[::-1]
         b = np.where(self._usable, -self._shrink * self._pull * scale, np.inf)[::-1]
@@ -259,7 +290,7 @@ class Stages:
             )
         x[-1] = min(x_end, reach[-1])
         u = (x[1:] - x[:-1]) / (2.0 * self.delta)
-        valid, rate, high, low, slope_u, curve_x, low_b, high_b, size = self._rows
+        valid, rate, _, low = self._rows[:4]
         with np.errstate(invalid="ignore"):
             lows = np.where(valid & np.isfinite(low), low * scale + rate * x[:-1, None], -np.inf)
         need = lows.max(axis=1)
@@ -270,8 +301,7 @@ class Stages:
             # A stage with no u between its rows at the x it was given: its own
             # maximum velocity curve, from all pairs of rows, and solve again.
             pick = stuck[~self._exact[stuck]]
-            rows = (valid, rate, high, low, slope_u, curve_x)
-            exact = _maximum_velocity_curve(*(r[pick] for r in rows), low_b, high_b, size)
+            exact = _maximum_velocity_curve(*(r[pick] for r in self._rows))
             self.acceleration_cap[pick] = np.minimum(self.acceleration_cap[pick], exact)
             self._exact[pick] = True
             return self.solve(x_start, x_end, velocity_factor, acceleration_scale)
@@ -310,11 +340,11 @@ def _maximum_velocity_curve(
     d2: FloatArray,
     acc_lo: FloatArray,
     acc_hi: FloatArray,
-    scale: float,
+    threshold: FloatArray,
 ) -> FloatArray:
     """The largest x at each grid point with ``max_j L_j(x) <= min_k U_k(x)``."""
     # A still channel (c' = 0) bounds x itself: a_lo <= c'' x <= a_hi.
-    still = ~(np.abs(d1) > _FLAT * scale)
+    still = ~(np.abs(d1) > threshold)
     with np.errstate(divide="ignore", invalid="ignore"):
         bend = np.where(d2 > 0, acc_hi / d2, np.where(d2 < 0, acc_lo / d2, np.inf))
     cap = np.min(np.where(still & ~np.isnan(bend), bend, np.inf), axis=1)

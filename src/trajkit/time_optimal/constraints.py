@@ -1,0 +1,443 @@
+"""Limits of a timing beyond the joints' own: actuator torque, and the tool's speed.
+
+Along a path ``q(s)`` timed with ``u = s̈`` and ``x = ṡ²``, a joint's torque and
+the tool's squared speed are affine in ``(u, x)`` at every point of the path,
+with coefficients that depend on the point only::
+
+    y(s) = A(s) u + B(s) x + C(s),      lower <= y <= upper
+
+(torque: ``A = M q'``, ``B = M q'' + C(q, q') q'``, ``C = g(q)``; squared tool
+speed: ``B = |J q'|²``). Within a grid interval ``u`` is constant and ``x`` grows
+as ``x_i + 2 u σ``, so at each point ``σ`` of the interval such a bound is a row
+``A u + B (x_i + 2uσ) + C``, linear in ``(x_i, u)`` like the joints' rows. Unlike
+those, ``A, B, C`` are not polynomials in ``s`` (sines of the joint angles), so
+no Bernstein hull bounds them between points. What is guaranteed, and how:
+
+* the solver keeps every bound at :data:`COLLOCATION` points of each interval
+  (its ends and its middle);
+* the timed result is then measured: at ``samples`` points of every piece, the
+  value plus one eighth of the largest second difference between neighbouring
+  samples (for a function whose second derivative varies little between samples,
+  the most it can rise between two of them). An interval whose measure passes a
+  bound has that bound moved in by the excess and the timing solved again.
+
+So the stated guarantee is that measure: every piece's values at its samples,
+corrected for curvature, are within the bounds. :meth:`PathLimit.check` gives the
+same measure for any trajectory.
+
+A bound is a :class:`PathLimit`; :class:`TorqueLimit` and :class:`ToolLimit` are the
+two kinds. They are data plus two functions each (rows along a path, values of a
+motion), which the reachability solver consumes without knowing their physics.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from trajkit._validation import FloatArray, finite_array
+from trajkit.errors import InfeasibleError, InvalidInputError
+from trajkit.kinematics.chain import SerialChain
+from trajkit.kinematics.dynamics import STANDARD_GRAVITY, inverse_dynamics, path_dynamics
+from trajkit.kinematics.inertials import Inertials
+from trajkit.limits import parse_bounds
+from trajkit.trajectory import Trajectory
+
+__all__ = ["COLLOCATION", "LimitCheck", "PathLimit", "ToolLimit", "TorqueLimit"]
+
+#: Where in each grid interval (fraction of its length) the solver keeps the bounds.
+COLLOCATION = (0.0, 0.5, 1.0)
+#: Directions of the polygon that stands for the tool acceleration's disc: the
+#: polygon's bound is the disc's times cos(π / 16), 1.9% inside it.
+_DIRECTIONS = 16
+#: Samples per timed piece at which the bounds are measured.
+SAMPLES = 16
+
+
+@dataclass(frozen=True)
+class LimitCheck:
+    """A motion measured against a :class:`PathLimit`.
+
+    Attributes
+    ----------
+    ok : bool
+        Every measure within its bound (to a relative 1e-9).
+    ratio : ndarray, shape (k,)
+        Per component, the largest ratio of the measure to the bound on its side
+        (1 at the bound).
+    names : list of str
+        The components (joint names, or ``tool speed``...).
+    worst : str
+        The component nearest its bound (or most beyond it), its value, bound and time.
+    """
+
+    ok: bool
+    ratio: FloatArray
+    names: list[str]
+    worst: str
+
+    def __str__(self) -> str:
+        return ("OK" if self.ok else "VIOLATED") + f": {self.worst}"
+
+
+class PathLimit:
+    """A bound on a quantity affine in ``(s̈, ṡ²)`` along a path; see the module notes.
+
+    Subclasses give the quantity's name, unit, components and bounds, its rows
+    along a path (:meth:`rows`) and its values on a motion (:meth:`values`).
+    """
+
+    quantity: str
+
+    def components(self) -> list[tuple[str, str]]:
+        """Each component's name and unit, for messages."""
+        raise NotImplementedError
+
+    def bounds(self) -> tuple[FloatArray, FloatArray]:
+        """``(lower, upper)`` per component, in :attr:`unit`; ``-inf`` where unbounded."""
+        raise NotImplementedError
+
+    def rows(
+        self, q: FloatArray, dq: FloatArray, ddq: FloatArray, lower: FloatArray,
+        upper: FloatArray,
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
+        """``A, B, C, low, high``, each (n, r): ``low <= A u + B x + C <= high`` at n points.
+
+        ``lower`` and ``upper`` (n, k) are the bounds at each point, as tightened.
+        """
+        raise NotImplementedError
+
+    def values(self, q: FloatArray, qd: FloatArray, qdd: FloatArray) -> FloatArray:
+        """The measured quantity (n, k) at joint states (n, ndof)."""
+        raise NotImplementedError
+
+    def check(self, trajectory: Trajectory, *, samples: int = SAMPLES) -> LimitCheck:
+        """Measure a joint trajectory against this bound, as :func:`~trajkit.topp` does.
+
+        Parameters
+        ----------
+        trajectory : Trajectory
+            Joint positions in time, of the chain's joints.
+        samples : int
+            Sample intervals per piece (>= 2).
+
+        Returns
+        -------
+        LimitCheck
+        """
+        if not isinstance(trajectory, Trajectory):
+            raise InvalidInputError(
+                f"trajectory must be a trajkit.Trajectory, got {type(trajectory).__name__}"
+            )
+        if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
+            raise InvalidInputError(f"samples must be a whole number >= 2, got {samples!r}")
+        high, low, times = measure(self, trajectory, int(samples))
+        lower, upper = self.bounds()
+        ratio_hi, ratio_lo = _ratio(high, upper, 1.0), _ratio(low, lower, -1.0)
+        per_piece = np.maximum(ratio_hi, ratio_lo)  # (pieces, k)
+        ratio = per_piece.max(axis=0)
+        piece, k = np.unravel_index(int(np.argmax(per_piece)), per_piece.shape)
+        names = self.components()
+        side_hi = ratio_hi[piece, k] >= ratio_lo[piece, k]
+        value = high[piece, k] if side_hi else low[piece, k]
+        bound = upper[k] if side_hi else lower[k]
+        name, unit = names[k]
+        worst = (
+            f"{name} reaches {value:.6g} {unit} against {bound:.6g} {unit} "
+            f"(ratio {ratio[k]:.6g}) in the piece from t={times[piece]:.6g} s"
+        )
+        ok = bool(np.all(ratio <= 1.0 + 1e-9))
+        return LimitCheck(ok, ratio, [n for n, _ in names], worst)
+
+
+def _ratio(value: FloatArray, bound: FloatArray, side: float) -> FloatArray:
+    """``value / bound`` for the bound on ``side`` (+1 upper, -1 lower).
+
+    1 at the bound, > 1 beyond it; -inf without a bound; for a bound of 0, 0 within
+    it and inf beyond.
+    """
+    finite = np.isfinite(bound) & (bound != 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(finite, value / np.where(finite, bound, 1.0), -np.inf)
+    return np.where(bound == 0, np.where(side * value > 0, np.inf, 0.0), ratio)
+
+
+def measure(limit: PathLimit, trajectory: Trajectory, samples: int
+            ) -> tuple[FloatArray, FloatArray, FloatArray]:  # fmt: skip
+    """Per piece and component, the largest and least values with the curvature margin.
+
+    Returns ``high``, ``low`` (pieces, k) and the pieces' start times.
+    """
+    start = trajectory.breakpoints[:-1]
+    length = np.diff(trajectory.breakpoints)
+    fractions = np.linspace(0.0, 1.0, samples + 1)
+    t = start[:, None] + length[:, None] * fractions
+    # The last sample of a piece is its own end, not the next piece's start.
+    t[:, -1] = np.maximum(np.nextafter(t[:, -1], -np.inf), t[:, -2])
+    flat = t.ravel()
+    q, qd, qdd = (trajectory.evaluate(flat, order) for order in range(3))
+    values = limit.values(q, qd, qdd).reshape(t.shape[0], samples + 1, -1)
+    bend = np.zeros(values.shape[::2])
+    if samples >= 2:
+        bend = np.abs(values[:, :-2] - 2.0 * values[:, 1:-1] + values[:, 2:]).max(axis=1) / 8.0
+    return values.max(axis=1) + bend, values.min(axis=1) - bend, start
+
+
+def _chain(chain: object) -> SerialChain:
+    if not isinstance(chain, SerialChain):
+        raise InvalidInputError(
+            f"chain must be a trajkit.kinematics.SerialChain, got {type(chain).__name__}"
+        )
+    return chain
+
+
+@dataclass(frozen=True)
+class TorqueLimit(PathLimit):
+    """Actuator torque (force for a prismatic joint) within bounds along the path.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        The arm whose joints the path moves, with its inertial data
+        (``chain.physical``) unless ``inertials`` is given.
+    limit : float, array_like or (lower, upper), optional
+        Torque bound per joint (N·m, N for a prismatic joint): a magnitude
+        (symmetric) or ``(lower, upper)`` with lower <= 0 <= upper. Default the
+        chain's ``physical.effort_limit``.
+    inertials : Inertials, optional
+        The links' mass distribution; default the chain's own.
+    gravity : array_like, shape (3,)
+        Gravity in the world frame (m/s²), default standard gravity along -z.
+
+    Notes
+    -----
+    Rigid-body torques only: no friction, rotor inertia or payload (add the payload
+    to the last link's inertials).
+    """
+
+    chain: SerialChain
+    limit: ArrayLike | tuple[ArrayLike, ArrayLike] | None = None
+    inertials: Inertials | None = None
+    gravity: ArrayLike = STANDARD_GRAVITY
+    quantity: str = field(default="torque", init=False)
+    _bounds: tuple[FloatArray, FloatArray] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        chain = _chain(self.chain)
+        spec = self.limit
+        if spec is None:
+            physical = chain.physical
+            spec = None if physical is None else physical.effort_limit
+            if spec is None:
+                raise InvalidInputError(
+                    f"no torque limit given and the chain {chain.name!r} has no effort_limit "
+                    "in its physical data: pass limit="
+                )
+        bounds = parse_bounds("torque limit", spec)
+        assert bounds is not None
+        for side in (bounds.lower, bounds.upper):
+            if side.ndim == 1 and side.size != chain.ndof:
+                raise InvalidInputError(
+                    f"torque limit gives {side.size} joints but the chain {chain.name!r} has "
+                    f"{chain.ndof}"
+                )
+        lower, upper = (np.array(side, dtype=float) for side in bounds.for_ndof(
+            "torque limit", chain.ndof))  # fmt: skip
+        gravity = finite_array("gravity", self.gravity, unit="m/s^2")
+        if gravity.shape != (3,):
+            raise InvalidInputError(f"gravity must be 3 numbers (m/s^2), got shape {gravity.shape}")
+        # Refuse missing inertial data now, by name, not in the middle of a solve.
+        probe = np.zeros(chain.ndof)
+        inverse_dynamics(chain, probe, probe, probe, inertials=self.inertials, gravity=gravity)
+        object.__setattr__(self, "gravity", gravity)
+        object.__setattr__(self, "_bounds", (lower, upper))
+
+    def components(self) -> list[tuple[str, str]]:  # noqa: D102 - see PathLimit
+        chain = self.chain
+        return [(f"torque of joint {name}", "N·m" if revolute else "N")
+                for name, revolute in zip(chain.names, chain.revolute, strict=True)]  # fmt: skip
+
+    def bounds(self) -> tuple[FloatArray, FloatArray]:  # noqa: D102 - see PathLimit
+        return self._bounds
+
+    def rows(self, q, dq, ddq, lower, upper):  # noqa: D102 - see PathLimit.rows
+        a, b, c = path_dynamics(self.chain, q, dq, ddq, inertials=self.inertials,
+                                gravity=self.gravity)  # fmt: skip
+        return a, b, c, lower, upper
+
+    def values(self, q, qd, qdd):  # noqa: D102 - see PathLimit.values
+        return inverse_dynamics(self.chain, q, qd, qdd, inertials=self.inertials,
+                                gravity=self.gravity)  # fmt: skip
+
+    def holding(self, q: FloatArray) -> FloatArray:
+        """Torque that holds the arm still at ``q`` (n, ndof): gravity's alone."""
+        still = np.zeros_like(q)
+        return inverse_dynamics(self.chain, q, still, still, inertials=self.inertials,
+                                gravity=self.gravity)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class ToolLimit(PathLimit):
+    """The tool's speed, acceleration or turn rate within bounds along the path.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        The arm whose joints the path moves; the tool is its tool frame's origin.
+    speed : float, optional
+        Largest linear speed of the tool (m/s).
+    acceleration : float, optional
+        Largest norm of the tool's linear acceleration (m/s²). The solver keeps it
+        through a 16-sided polygon inside the disc of allowed accelerations, so
+        timings may fall 1.9% short of this bound where it alone binds.
+    angular_speed : float, optional
+        Largest angular speed of the tool (rad/s).
+
+    At least one must be given; each > 0.
+    """
+
+    chain: SerialChain
+    speed: float | None = None
+    acceleration: float | None = None
+    angular_speed: float | None = None
+    quantity: str = field(default="tool", init=False)
+    _kinds: tuple[str, ...] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        _chain(self.chain)
+        kinds = []
+        for name, unit in (("speed", "m/s"), ("acceleration", "m/s^2"),
+                           ("angular_speed", "rad/s")):  # fmt: skip
+            value = getattr(self, name)
+            if value is None:
+                continue
+            number = finite_array(f"tool {name}", value, unit=unit)
+            if number.ndim != 0 or number <= 0.0:
+                raise InvalidInputError(
+                    f"tool {name} must be a single number > 0 ({unit}), got {value!r}"
+                )
+            object.__setattr__(self, name, float(number))
+            kinds.append(name)
+        if not kinds:
+            raise InvalidInputError(
+                "a ToolLimit needs at least one of speed, acceleration, angular_speed"
+            )
+        object.__setattr__(self, "_kinds", tuple(kinds))
+
+    def components(self) -> list[tuple[str, str]]:  # noqa: D102 - see PathLimit
+        units = {"speed": "m/s", "acceleration": "m/s^2", "angular_speed": "rad/s"}
+        return [(f"tool {kind.replace('_', ' ')}", units[kind]) for kind in self._kinds]
+
+    def bounds(self) -> tuple[FloatArray, FloatArray]:  # noqa: D102 - see PathLimit
+        upper = np.array([getattr(self, kind) for kind in self._kinds])
+        return np.full(upper.size, -np.inf), upper
+
+    def rows(self, q, dq, ddq, lower, upper):  # noqa: D102 - see PathLimit.rows
+        jacobian = self.chain.jacobian(q)  # (n, 6, ndof)
+        tangent = np.einsum("nkj,nj->nk", jacobian, dq)  # d(tool)/ds, linear then angular
+        parts: list[tuple[FloatArray, ...]] = []
+        for k, kind in enumerate(self._kinds):
+            bound = np.maximum(upper[:, k], 0.0)
+            if kind in ("speed", "angular_speed"):
+                # |v|² = |p'|² x: a bound on x at each point, squared.
+                rate = tangent[:, :3] if kind == "speed" else tangent[:, 3:]
+                b = (rate**2).sum(axis=1)
+                parts.append((0.0 * b, b, 0.0 * b, np.full_like(b, -np.inf), bound**2))
+            else:
+                parts.append(self._acceleration_rows(jacobian, q, dq, ddq, tangent, bound))
+        return tuple(np.column_stack([np.atleast_2d(p[i].T).T for p in parts])
+                     for i in range(5))  # type: ignore[return-value]  # fmt: skip
+
+    def _acceleration_rows(self, jacobian, q, dq, ddq, tangent, bound):
+        """The polygon inside the disc ``|p' u + p'' x| <= bound`` in their plane."""
+        linear = tangent[:, :3]
+        curve = self._linear_acceleration(jacobian, q, dq, ddq)
+        # An orthonormal pair spanning p' and p'' (any pair where they vanish).
+        first = _unit(linear, np.array([1.0, 0.0, 0.0]))
+        rest = curve - (curve * first).sum(axis=1, keepdims=True) * first
+        fallback = np.cross(first, np.array([0.0, 0.0, 1.0]))
+        fallback = np.where(np.linalg.norm(fallback, axis=1, keepdims=True) > 0.5, fallback,
+                            np.cross(first, np.array([0.0, 1.0, 0.0])))  # fmt: skip
+        second = _unit(rest, fallback)
+        angle = 2.0 * np.pi * np.arange(_DIRECTIONS) / _DIRECTIONS
+        directions = (
+            np.cos(angle)[None, :, None] * first[:, None, :]
+            + np.sin(angle)[None, :, None] * second[:, None, :]
+        )  # (n, K, 3)
+        on_u = np.einsum("nkd,nd->nk", directions, linear)
+        on_x = np.einsum("nkd,nd->nk", directions, curve)
+        high = np.repeat((bound * np.cos(np.pi / _DIRECTIONS))[:, None], _DIRECTIONS, axis=1)
+        return on_u, on_x, 0.0 * on_u, np.full_like(on_u, -np.inf), high
+
+    def _linear_acceleration(self, jacobian, q, rate, second):
+        """``J q̈ + J̇ q̇`` (linear rows): the tool's acceleration, or ``p''`` along a path."""
+        jacobian_dot = self.chain.jacobian_dot(q, rate)[:, :3]
+        return (np.einsum("nkj,nj->nk", jacobian[:, :3], second)
+                + np.einsum("nkj,nj->nk", jacobian_dot, rate))  # fmt: skip
+
+    def values(self, q, qd, qdd):  # noqa: D102 - see PathLimit.values
+        jacobian = self.chain.jacobian(q)
+        twist = np.einsum("nkj,nj->nk", jacobian, qd)
+        out = []
+        for kind in self._kinds:
+            if kind == "speed":
+                out.append(np.linalg.norm(twist[:, :3], axis=1))
+            elif kind == "angular_speed":
+                out.append(np.linalg.norm(twist[:, 3:], axis=1))
+            else:
+                acc = self._linear_acceleration(jacobian, q, qd, qdd)
+                out.append(np.linalg.norm(acc, axis=1))
+        return np.column_stack(out)
+
+
+def _unit(vectors: FloatArray, fallback: FloatArray) -> FloatArray:
+    norm = np.linalg.norm(vectors, axis=1, keepdims=True)
+    scale = max(float(norm.max(initial=0.0)), 1e-300)
+    small = norm <= 1e-12 * scale
+    return np.where(small, np.broadcast_to(fallback, vectors.shape),
+                    vectors / np.where(small, 1.0, norm))  # fmt: skip
+
+
+def checked_limits(extra: object, ndof: int) -> tuple[PathLimit, ...]:
+    """``extra`` as a tuple of PathLimits whose chains have ``ndof`` joints."""
+    if extra is None:
+        return ()
+    items = (extra,) if isinstance(extra, PathLimit) else extra
+    try:
+        items = tuple(items)  # type: ignore[arg-type]
+    except TypeError:
+        raise InvalidInputError(
+            f"constraints must be a TorqueLimit, a ToolLimit or a list of them, got "
+            f"{type(extra).__name__}"
+        ) from None
+    for item in items:
+        if not isinstance(item, PathLimit):
+            raise InvalidInputError(
+                f"constraints must be TorqueLimit or ToolLimit objects, got {type(item).__name__}"
+            )
+        if item.chain.ndof != ndof:  # type: ignore[attr-defined]
+            raise InvalidInputError(
+                f"the {item.quantity} limit's chain {item.chain.name!r} has "  # type: ignore[attr-defined]
+                f"{item.chain.ndof} joints but the path has {ndof}"  # type: ignore[attr-defined]
+            )
+    return items
+
+
+def refuse_unheld(limits: tuple[PathLimit, ...], q: FloatArray, where: FloatArray) -> None:
+    """Refuse by name a rest point (start, end, corner) where gravity passes a torque limit."""
+    for limit in limits:
+        if not isinstance(limit, TorqueLimit):
+            continue
+        lower, upper = limit.bounds()
+        hold = limit.holding(q)
+        excess = np.maximum(hold - upper, lower - hold)
+        if np.any(excess > 1e-9 * np.maximum(np.abs(upper), np.abs(lower))):
+            i, j = np.unravel_index(int(np.argmax(excess)), excess.shape)
+            bound = upper[j] if hold[i, j] > upper[j] else lower[j]
+            raise InfeasibleError(
+                f"joint {limit.chain.names[j]} needs {hold[i, j]:.6g} N·m to hold the arm at rest "
+                f"at s={where[i]:.6g} (gravity alone), beyond its torque limit {bound:.6g} N·m: "
+                "no timing can stop there"
+            )
