@@ -34,7 +34,7 @@ from trajkit.profiles import (
     velocity_change,
 )
 from trajkit.samples import Samples
-from trajkit.time_optimal import topp
+from trajkit.time_optimal import ToolLimit, TorqueLimit, retime, topp
 from trajkit.trajectory import Extrema, State, Trajectory
 
 __version__ = "0.1.0"
@@ -50,6 +50,8 @@ __all__ = [
     "Report",
     "Samples",
     "State",
+    "ToolLimit",
+    "TorqueLimit",
     "Trajectory",
     "TrajkitError",
     "UnreachableError",
@@ -68,6 +70,7 @@ __all__ = [
     "quintic",
     "quintic_via",
     "report",
+    "retime",
     "scurve",
     "septic",
     "topp",

@@ -235,10 +235,17 @@ def test_as_polynomial_keeps_a_trajectory_and_interpolates_a_general_path():
 
 
 def test_grid_points_are_uniform_plus_the_breakpoints():
+    s = grid_points(np.array([0.0, 0.6, 2.0]), 4)
+    np.testing.assert_array_equal(s, [0.0, 0.5, 0.6, 1.0, 1.5, 2.0])
+    given_points = grid_points(np.array([0.0, 0.6, 2.0]), [0.0, 0.3, 1.2, 1.9, 2.0])
+    np.testing.assert_array_equal(given_points, [0.0, 0.3, 0.6, 1.2, 1.9, 2.0])
+
+
+def test_an_interval_between_two_breakpoints_is_split():
+    # Both ends may be corners where the path stops: one interval could not be crossed.
     s = grid_points(np.array([0.0, 0.37, 2.0]), 4)
-    np.testing.assert_array_equal(s, [0.0, 0.37, 0.5, 1.0, 1.5, 2.0])
-    given_points = grid_points(np.array([0.0, 0.37, 2.0]), [0.0, 1.2, 1.9, 2.0])
-    np.testing.assert_array_equal(given_points, [0.0, 0.37, 1.2, 1.9, 2.0])
+    np.testing.assert_allclose(s, [0.0, 0.0925, 0.185, 0.2775, 0.37, 0.5, 1.0, 1.5, 2.0],
+                               rtol=0, atol=1e-15)  # fmt: skip
 
 
 def test_grid_points_merge_a_breakpoint_a_hair_from_a_uniform_point():

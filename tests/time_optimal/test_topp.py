@@ -195,6 +195,17 @@ def test_boundary_speeds_just_within_reach_are_met():
 # ------------------------------------------------------------------------- corners
 
 
+def test_two_corners_with_no_grid_point_between_are_crossed():
+    # Uniform points at 0, 1, 2: the short middle segment [0.9, 0.95] holds none, and the
+    # path stops at both of its ends. It used to be "not traversable".
+    path = polyline([0.0, 0.9, 0.95, 2.0], [[0.0, 0.0], [0.9, 0.0], [0.9, 0.05], [1.95, 0.05]])
+    timed = tk.topp(path, LIMITS, grid=2)
+    assert timed.check(LIMITS).ok
+    s = timed.info["grid_points"]
+    assert np.sum((s > 0.9) & (s < 0.95)) == 3
+    np.testing.assert_allclose(timed.info["path_speed"][np.isin(s, [0.9, 0.95])], 0.0)
+
+
 @pytest.mark.parametrize("grid", [7, 50, 200])
 def test_a_sharp_corner_stops_the_path(grid):
     # A 3-joint polyline: tangent jumps at s = 0.37 and s = 1.1, neither on a uniform grid.

@@ -45,6 +45,7 @@ from trajkit.time_optimal.constraints import (
     refuse_unheld,
 )
 from trajkit.time_optimal.reachability import Channels, Rows, Stages
+from trajkit.time_optimal.retime import blended_path, retime
 from trajkit.time_optimal.timing import (
     GeometricPath,
     as_polynomial,
@@ -56,13 +57,25 @@ from trajkit.time_optimal.timing import (
 from trajkit.tolerances import JUMP_RTOL, LIMIT_RTOL, ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
-__all__ = ["GeometricPath", "LimitCheck", "PathLimit", "ToolLimit", "TorqueLimit", "topp"]
+__all__ = [
+    "GeometricPath",
+    "LimitCheck",
+    "PathLimit",
+    "ToolLimit",
+    "TorqueLimit",
+    "blended_path",
+    "retime",
+    "topp",
+]
 
 #: Largest boundary path speed whose square is a finite float64 (1/s).
 _MAX_SPEED = float(np.sqrt(np.finfo(np.float64).max))
 #: Most grid intervals a timing accepts: far finer than any path needs, and small
 #: enough for the solver's per-interval arrays to fit in memory.
 MAX_GRID = 100_000
+#: Grid intervals given to a stretch between two of the path's breakpoints that has
+#: no grid point inside.
+_SPLIT = 4
 #: Rounds of local tightening before the uniform slow-down.
 _ROUNDS = 12
 #: Tightened bounds aim this fraction inside the bound, so a round rarely falls short.
@@ -489,6 +502,15 @@ def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
     keep = np.append(np.diff(points) > ROUNDING_RTOL * (end - start), True)
     out = points[keep]
     out[-1] = end
+    # An interval between two breakpoints may lie between two rests (corners, where
+    # the path stops): one interval with no speed at either end cannot be crossed.
+    # Such intervals get _SPLIT of their own.
+    ends = np.isin(out, breakpoints)
+    both = np.flatnonzero(ends[:-1] & ends[1:])
+    if both.size:
+        fractions = np.arange(1, _SPLIT) / _SPLIT
+        inner = out[both, None] + np.diff(out)[both, None] * fractions
+        out = np.union1d(out, inner.ravel())
     return out
 
 
