@@ -221,15 +221,40 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
         for key in ("vmax", "amax"):
             if key not in limits:
                 raise ScenarioError(f"limits.{key}: required by a waypoints task")
-        plan = tk.blended(points, limits["vmax"], limits["amax"],
-                          jmax=limits.get("jmax"), durations=task["durations"],
-                          through=task["through"])  # fmt: skip
-        lines.append(f"  blended move through {points.shape[0]} waypoints: {plan.duration:.9g} s")
+        if task["time_optimal"]:
+            plan = tk.retime(points, _timing_limits(scenario),
+                             path_tolerance=task["path_tolerance"], grid=task["timing_grid"],
+                             constraints=_path_limits(scenario, robot))  # fmt: skip
+            deviation = plan.info["waypoint_deviation"].max()
+            lines.append(f"  time-optimal retiming through {points.shape[0]} waypoints: "
+                         f"{plan.duration:.9g} s, at most {deviation:.3g} from a waypoint "
+                         f"(tolerance {task['path_tolerance']:g})")  # fmt: skip
+        else:
+            plan = tk.blended(points, limits["vmax"], limits["amax"],
+                              jmax=limits.get("jmax"), durations=task["durations"],
+                              through=task["through"])  # fmt: skip
+            lines.append(
+                f"  blended move through {points.shape[0]} waypoints: {plan.duration:.9g} s"
+            )
     else:
         from trajkit.rotations import homogeneous, rpy_matrix
         from trajkit.taskspace import Ellipse, Line, through_poses, timed, to_joint_space
 
         branch = None
+        if kind == "line" and task["time_optimal"]:
+            from trajkit.taskspace import time_optimal
+
+            for key in ("vmax", "amax"):
+                if key not in limits:
+                    raise ScenarioError(f"limits.{key}: required by a time-optimal line")
+            line = Line(task["start"], task["end"])
+            move = time_optimal(robot, line, _timing_limits(scenario), grid=task["timing_grid"],
+                                constraints=_path_limits(scenario, robot))  # fmt: skip
+            plan, extra = move.trajectory, None
+            lines.append(f"  time-optimal line on {robot.name}: {plan.duration:.9g} s, path "
+                         f"error {move.path_error:.2g}")  # fmt: skip
+            _constraint_lines(plan, lines)
+            return plan, extra
         if kind == "line":
             motion = timed(Line(task["start"], task["end"]), task["law"], duration=task["duration"])
             what = f"{task['law']} line"
@@ -250,7 +275,31 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
         )
     if plan.info.get("phase_times") is not None and kind == "joint_move":
         lines.append(f"  phase times: {np.round(plan.info['phase_times'], 9).tolist()}")
+    _constraint_lines(plan, lines)
     return plan, extra
+
+
+def _timing_limits(scenario: Scenario) -> tk.Limits:
+    """The joint velocity and acceleration bounds a time-optimal timing keeps."""
+    return tk.Limits(velocity=scenario.limits["vmax"], acceleration=scenario.limits["amax"])
+
+
+def _path_limits(scenario: Scenario, robot: SerialChain | None) -> list[Any]:
+    """The scenario's torque and tool limits, as the timing's constraints."""
+    limits, out = scenario.limits, []
+    if "torque" in limits:
+        assert robot is not None  # parse refuses torque limits without a robot
+        out.append(tk.TorqueLimit(robot, None if limits["torque"] is True else limits["torque"]))
+    if "tool_speed" in limits or "tool_acceleration" in limits:
+        assert robot is not None
+        out.append(tk.ToolLimit(robot, speed=limits.get("tool_speed"),
+                                acceleration=limits.get("tool_acceleration")))  # fmt: skip
+    return out
+
+
+def _constraint_lines(plan: Trajectory, lines: list[str]) -> None:
+    for check in plan.info.get("constraint_checks", ()):
+        lines.append(f"  {check}")
 
 
 def _mobile_limits(scenario: Scenario, model: Any) -> Any:
@@ -364,6 +413,11 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
         figure = tk.plot.profiles(plan, _arm_limits(scenario), names=names, title=name,
                                   orders=orders)  # fmt: skip
         tk.plot.save(figure, at(".png"))
+        path_limits = _path_limits(scenario, robot)
+        if path_limits:
+            kinds = " and ".join(sorted({item.quantity for item in path_limits}, reverse=True))
+            tk.plot.save(tk.plot.constraints(plan, path_limits, title=f"{name}: {kinds} limits"),
+                         at("_limits.png"))  # fmt: skip
         if extra is not None:
             tk.plot.save(tk.plot.task_space(extra, title=f"{name}: task space"), at("_task.png"))
     if run is not None:

@@ -41,6 +41,8 @@ MOBILE_JERKS = ("jmax", "angular_jmax")
 MOBILE_LIMITS = (*KEYWORDS, *MOBILE_JERKS)
 #: The base's limits on turning: given in degrees as ``wmax_deg`` and so on.
 MOBILE_ANGULAR = ("wmax", "alpha_max", "angular_jmax")
+#: A time-optimal timing's limits on the tool (m/s, m/s²), beside joint limits and torque.
+TOOL_LIMITS = ("tool_speed", "tool_acceleration")
 #: The limits' names before they were the planners' keywords, still read with a warning.
 OLD_ARM_LIMITS = {"velocity": "vmax", "acceleration": "amax", "jerk": "jmax"}
 OLD_MOBILE_LIMITS = {"velocity": "vmax", "angular_velocity": "wmax", "acceleration": "amax",
@@ -147,6 +149,7 @@ def from_data(
     task = _task(task_table, kind)
     limits = _limits(root.table("limits"), kind in MOBILE_TASKS)
     _check_jerk(limits, task, kind)
+    _check_timing_limits(limits, task, robot)
     controller = root.table("controller")
     period = None
     if controller is not None:
@@ -240,9 +243,25 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
                                 "min_duration (a floor), not both")  # fmt: skip
     elif kind == "waypoints":
         task["points"] = table.matrix("points", angles=True, minimum_rows=2)
-        task["through"] = table.boolean("through", False)
-        task["durations"] = table.numbers("durations", None, count=task["points"].shape[0] - 1,
-                                          positive=True)  # fmt: skip
+        task["timing"] = table.string("timing", "blended", choices=("blended", "time_optimal"))
+        task["time_optimal"] = task["timing"] == "time_optimal"
+        if task["time_optimal"]:
+            # A planner's waypoint list: corners cut within the tolerance, timed fastest.
+            for key in ("through", "durations"):
+                if table.has(key):
+                    raise ScenarioError(f"{table.where(key)}: not used with timing = "
+                                        "'time_optimal' (it passes near every waypoint "
+                                        "as fast as the limits allow)")  # fmt: skip
+            task["path_tolerance"] = table.number("path_tolerance", 0.01, angles=True)
+            if task["path_tolerance"] < 0:
+                raise ScenarioError(f"{table.where('path_tolerance')}: expected >= 0, got "
+                                    f"{task['path_tolerance']:g}")  # fmt: skip
+            task["timing_grid"] = _timing_grid(table)
+        else:
+            task["through"] = table.boolean("through", False)
+            task["durations"] = table.numbers("durations", None,
+                                              count=task["points"].shape[0] - 1,
+                                              positive=True)  # fmt: skip
     elif kind == "polynomial":
         task["times"] = table.numbers("times")
         if task["times"].size < 2 or np.any(np.diff(task["times"]) <= 0):
@@ -299,8 +318,16 @@ def _task(table: Table, kind: str) -> dict[str, Any]:
     elif kind == "line":
         task["start"] = table.numbers("start", count=3)
         task["end"] = table.numbers("end", count=3)
-        task["duration"] = table.number("duration", positive=True)
-        task["law"] = table.string("law", "cubic", choices=("cubic", "quintic", "septic"))
+        task["law"] = table.string("law", "cubic", choices=("cubic", "quintic", "septic",
+                                                            "time_optimal"))  # fmt: skip
+        task["time_optimal"] = task["law"] == "time_optimal"
+        if task["time_optimal"]:
+            if table.has("duration"):
+                raise ScenarioError(f"{table.where('duration')}: not used with law = "
+                                    "'time_optimal' (the limits set the duration)")  # fmt: skip
+            task["timing_grid"] = _timing_grid(table)
+        else:
+            task["duration"] = table.number("duration", positive=True)
         task["ik_step"] = table.number("ik_step", DEFAULT_STEP, positive=True)
     elif kind == "twist":
         task["v"] = table.number("v")
@@ -341,15 +368,50 @@ def _limits(table: Table | None, mobile: bool) -> dict[str, Any]:
         return {}
     table = table.renamed(OLD_MOBILE_LIMITS if mobile else OLD_ARM_LIMITS)
     keys = MOBILE_LIMITS if mobile else LIMITS
-    limits = {}
+    limits: dict[str, Any] = {}
     for key in keys:
         angular = not mobile or key in MOBILE_ANGULAR
         if table.has(key, angles=angular):
             limits[key] = (table.number(key, angles=angular, positive=True) if mobile
                            else table.numbers(key, angles=angular, scalar_ok=True,
                                               positive=True))  # fmt: skip
+    if not mobile:
+        if table.has("torque"):
+            # true: the robot's own effort limits; else N·m per joint (or one for all).
+            given = table.value("torque")
+            limits["torque"] = True if given is True else table.numbers(
+                "torque", scalar_ok=True, positive=True)  # fmt: skip
+            if given is False:
+                raise ScenarioError(f"{table.where('torque')}: expected true (the robot's "
+                                    "effort limits) or N·m per joint, got false")  # fmt: skip
+        for key in TOOL_LIMITS:
+            if table.has(key):
+                limits[key] = table.number(key, positive=True)
     table.done()
     return limits
+
+
+def _timing_grid(table: Table) -> int:
+    """A time-optimal timing's grid intervals: a whole number, 2 to 100,000."""
+    value = table.number("timing_grid", 500)
+    if value != round(value) or not 2 <= value <= 100_000:
+        raise ScenarioError(f"{table.where('timing_grid')}: expected a whole number of grid "
+                            f"intervals from 2 to 100000, got {value:g}")  # fmt: skip
+    return int(value)
+
+
+def _check_timing_limits(limits: dict[str, Any], task: dict[str, Any], robot: dict) -> None:
+    """Torque and tool limits are kept by a time-optimal timing only, of a robot."""
+    given = [key for key in ("torque", *TOOL_LIMITS) if key in limits]
+    if not given:
+        return
+    if not task.get("time_optimal"):
+        raise ScenarioError(f"limits.{given[0]}: only kept by a time-optimal timing: a "
+                            "waypoints task with timing = 'time_optimal' or a line task with "
+                            "law = 'time_optimal'")  # fmt: skip
+    if not robot:
+        raise ScenarioError(f"limits.{given[0]}: needs a [robot] table (its dynamics or its "
+                            "tool)")  # fmt: skip
 
 
 def _check_jerk(limits: dict[str, Any], task: dict[str, Any], kind: str) -> None:

@@ -9,6 +9,7 @@ follows the same path, within the mapping's ``path_error``.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from numpy.typing import ArrayLike
@@ -19,7 +20,7 @@ from trajkit.limits import Limits
 from trajkit.taskspace.joint_space import JointSpacePlan, to_joint_space
 from trajkit.taskspace.motion import TaskTrajectory, timed
 from trajkit.taskspace.paths import Path
-from trajkit.time_optimal import topp
+from trajkit.time_optimal import PathLimit, topp
 from trajkit.trajectory import Trajectory
 
 __all__ = ["TimeOptimalMove", "time_optimal"]
@@ -62,6 +63,7 @@ def time_optimal(
     samples: int = 200,
     grid: int = 500,
     tolerance: float = 1e-6,
+    constraints: PathLimit | Sequence[PathLimit] | None = None,
 ) -> TimeOptimalMove:
     """Move the tool along ``path`` as fast as the joint limits allow, at rest at both ends.
 
@@ -83,6 +85,9 @@ def time_optimal(
     tolerance : float
         Largest allowed distance of the joint curve's tool from the path (length
         unit of the robot).
+    constraints : TorqueLimit, ToolLimit or a list of them, optional
+        Further limits of the timing, as for :func:`trajkit.topp`: the tool's
+        speed along the path (``ToolLimit(robot, speed=...)``), actuator torques.
 
     Returns
     -------
@@ -111,6 +116,6 @@ def time_optimal(
         )
     geometry = to_joint_space(robot, motion, ik_step=motion.duration / samples, q_start=q_start,
                               branch=branch, tolerance=tolerance)  # fmt: skip
-    result = topp(geometry.trajectory, limits, grid=grid)
+    result = topp(geometry.trajectory, limits, grid=grid, constraints=constraints)
     info = dict(result.info) | {"planner": "time_optimal", "path_error": geometry.path_error}
     return TimeOptimalMove(result.with_info(info), geometry)

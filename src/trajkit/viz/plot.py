@@ -31,8 +31,18 @@ if TYPE_CHECKING:
     from trajkit.mobile.trajectory import MobileTrajectory
     from trajkit.sim.arm import ArmLog
     from trajkit.taskspace.motion import TaskTrajectory
+    from trajkit.time_optimal.constraints import PathLimit
 
-__all__ = ["arm", "mobile", "mobile_path", "profiles", "save", "task_space", "tracking"]
+__all__ = [
+    "arm",
+    "constraints",
+    "mobile",
+    "mobile_path",
+    "profiles",
+    "save",
+    "task_space",
+    "tracking",
+]
 
 _QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 _FIELDS = ("q", "qd", "qdd", "qddd")
@@ -472,6 +482,77 @@ def tracking(
     ylabels = (f"position [{unit}]", f"error q − q_d [{unit}]", f"effort [{effort}]")
     _label_time_panels(axes, ylabels, "best", 2)
     axes[0].set_title(title or f"{log.controller}: desired against actual")
+    return figure
+
+
+def constraints(
+    trajectory: Trajectory,
+    limits: PathLimit | Sequence[PathLimit],
+    *,
+    title: str | None = None,
+    width: float = 8.0,
+) -> Figure:
+    """Torques and tool speeds of a joint trajectory against their limits.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        Joint positions in time, of the limits' chain.
+    limits : TorqueLimit, ToolLimit or a list of them
+        What to draw: a TorqueLimit gives one panel with every joint's torque, a
+        ToolLimit one panel per bounded quantity.
+    title : str, optional
+        Title of the top panel; default the largest ratio of a value to its bound.
+    width : float
+        Figure width (inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Panels against time; each limit dashed, in the color of its joint, and named
+        in the legend.
+    """
+    from trajkit.time_optimal.constraints import checked_limits
+
+    if not isinstance(trajectory, Trajectory):
+        raise InvalidInputError(
+            f"trajectory must be a trajkit.Trajectory, got {type(trajectory).__name__}"
+        )
+    items = checked_limits(limits, trajectory.ndof)
+    if not items:
+        raise InvalidInputError("limits must name at least one TorqueLimit or ToolLimit")
+    positive_scalar("width", width)
+    t = _dense_times(trajectory)
+    q, qd, qdd = (trajectory.evaluate(t, order) for order in range(3))
+    # One panel per torque limit, one per tool quantity.
+    panels: list[tuple[PathLimit, list[int]]] = []
+    for item in items:
+        count = len(item.components())
+        groups = [list(range(count))] if item.quantity == "torque" else [[k] for k in range(count)]
+        panels += [(item, group) for group in groups]
+    figure, axes = _stacked(width, 2.4 * len(panels) + 0.6, len(panels))
+    ylabels, worst = [], 0.0
+    for ax, (item, group) in zip(axes, panels, strict=True):
+        values = item.values(q, qd, qdd)
+        lower, upper = item.bounds()
+        components = item.components()
+        for k in group:
+            color = f"C{k % 10}" if len(group) > 1 else "C0"
+            name = components[k][0].removeprefix("torque of joint ")
+            ax.plot(t, values[:, k], color=color, label=name)
+            for side, bound in (("upper", upper[k]), ("lower", lower[k])):
+                if np.isfinite(bound):
+                    label = f"{side} limit" if len(group) == 1 else None
+                    ax.axhline(bound, color=color, linestyle="--", linewidth=1.0, alpha=0.8,
+                               label=label)  # fmt: skip
+        if len(group) > 1:  # one legend entry says what the dashed lines are
+            ax.plot([], [], color="black", linestyle="--", linewidth=1.0, label="limits (dashed)")
+        units = sorted({components[k][1] for k in group})
+        quantity = "torque" if item.quantity == "torque" else components[group[0]][0]
+        ylabels.append(f"{quantity} [{' | '.join(units)}]")
+        worst = max(worst, float(item.check(trajectory).ratio.max()))
+    _label_time_panels(axes, ylabels, "best", 3)
+    axes[0].set_title(title or f"against the limits: at most {worst:.4g} of a bound")
     return figure
 
 
