@@ -222,7 +222,18 @@ def test_a_corner_is_a_rest_where_gravity_must_be_held():
     knots, points = np.array([0.0, 1.0, 2.0]), np.array([[-1.2, 0.0], [0.0, 0.0], [-1.2, 0.5]])
     slope = np.diff(points, axis=0) / np.diff(knots)[:, None]
     path = tk.Trajectory(knots, np.stack([slope, points[:-1]]))
-    with pytest.raises(InfeasibleError, match=r"at rest at s=1 "):
+    with pytest.raises(InfeasibleError, match=r"at s=1 \(gravity alone\).*can stop there"):
+        tk.topp(path, LIMITS, grid=50, constraints=torque((15.0, 15.0)))
+
+
+def test_a_pose_the_arm_cannot_hold_is_not_passed_through():
+    # Raised from -1.2 rad to 1.2 rad, the arm passes horizontal (20.85 N·m) at s = 0.5.
+    path = tk.cubic_spline([0, 1], [[-1.2, 0.0], [1.2, 0.0]], bc="natural")
+    with pytest.raises(
+        InfeasibleError,
+        match=r"20\.8463 N·m to hold the arm at s=0\.5 .*"
+        "cannot pass through a pose the arm cannot hold",
+    ):
         tk.topp(path, LIMITS, grid=50, constraints=torque((15.0, 15.0)))
 
 

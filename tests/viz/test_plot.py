@@ -301,3 +301,41 @@ def test_profiles_of_a_bare_curve_label_no_unit_they_do_not_know():
     assert [t.get_text() for t in axes[0].get_legend().get_texts()] == ["c1", "c2"]
     assert axes[1].get_lines()[1].get_ydata()[-1] == 4.0
     assert tk.plot.profiles(_Bare(), unit="V").get_axes()[1].get_ylabel() == "velocity [V/s]"
+
+
+def test_constraints_draw_torques_and_tool_speed_against_their_limits():
+    from trajkit.kinematics import UR5
+
+    ur5 = UR5()
+    path = tk.cubic_spline([0, 1], [[0, -1.5, 0, -1.5, 0, 0], [0.5, -1.0, 0.8, -1.5, 0.3, 0]],
+                           bc="natural")  # fmt: skip
+    limits = tk.Limits(velocity=3.0, acceleration=50.0)
+    both = [tk.TorqueLimit(ur5), tk.ToolLimit(ur5, speed=0.3, acceleration=4.0)]
+    timed = tk.topp(path, limits, grid=100, constraints=both)
+    figure = tk.plot.constraints(timed, both)
+    axes = figure.axes
+    assert [ax.get_ylabel() for ax in axes] == [
+        "torque [N·m]", "tool speed [m/s]", "tool acceleration [m/s^2]"
+    ]  # fmt: skip
+    labels = [[t.get_text() for t in ax.get_legend().get_texts()] for ax in axes]
+    assert labels[0][:6] == list(ur5.names) and labels[0][-1] == "limits (dashed)"
+    assert labels[1] == ["tool speed", "upper limit"]
+    assert axes[-1].get_xlabel() == "time [s]"
+    # The dashed lines are the limits: ±150 N·m and ±28 N·m, 0.3 m/s.
+    dashed = {round(float(line.get_ydata()[0]), 6) for line in axes[0].lines
+              if line.get_linestyle() == "--" and len(line.get_ydata())}  # fmt: skip
+    assert {150.0, -150.0, 28.0, -28.0} <= dashed
+    assert "at most" in axes[0].get_title()
+
+
+def test_constraints_bad_input():
+    from trajkit.kinematics import UR5
+
+    ur5 = UR5()
+    with pytest.raises(tk.InvalidInputError, match=r"trajectory must be a trajkit\.Trajectory"):
+        tk.plot.constraints(np.zeros(3), tk.TorqueLimit(ur5))
+    move = tk.cubic(np.zeros(6), np.ones(6), 2.0)
+    with pytest.raises(tk.InvalidInputError, match="at least one TorqueLimit or ToolLimit"):
+        tk.plot.constraints(move, [])
+    with pytest.raises(tk.InvalidInputError, match="has 6 joints but the path has 2"):
+        tk.plot.constraints(tk.cubic([0, 0], [1, 1], 2.0), tk.TorqueLimit(ur5))

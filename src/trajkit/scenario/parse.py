@@ -379,11 +379,11 @@ def _limits(table: Table | None, mobile: bool) -> dict[str, Any]:
         if table.has("torque"):
             # true: the robot's own effort limits; else N·m per joint (or one for all).
             given = table.value("torque")
-            limits["torque"] = True if given is True else table.numbers(
-                "torque", scalar_ok=True, positive=True)  # fmt: skip
             if given is False:
                 raise ScenarioError(f"{table.where('torque')}: expected true (the robot's "
                                     "effort limits) or N·m per joint, got false")  # fmt: skip
+            limits["torque"] = True if given is True else table.numbers(
+                "torque", scalar_ok=True, positive=True)  # fmt: skip
         for key in TOOL_LIMITS:
             if table.has(key):
                 limits[key] = table.number(key, positive=True)

@@ -220,7 +220,7 @@ def topp(
     if extra:
         rests = [0] * (speeds[0] == 0.0) + [points.size - 1] * (speeds[1] == 0.0)
         rests = np.union1d(rests, np.searchsorted(points, jumps(polynomial, 1))).astype(int)
-        refuse_unheld(extra, polynomial.evaluate(points[rests]), points[rests])
+        refuse_unheld(extra, polynomial.evaluate(points), points, points[rests])
     with np.errstate(over="ignore", invalid="ignore"):
         x, rounds, slow = optimal_x(polynomial, points, velocity, acceleration, speeds,
                                     constraints=extra)  # fmt: skip

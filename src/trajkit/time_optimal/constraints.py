@@ -425,8 +425,22 @@ def checked_limits(extra: object, ndof: int) -> tuple[PathLimit, ...]:
     return items
 
 
-def refuse_unheld(limits: tuple[PathLimit, ...], q: FloatArray, where: FloatArray) -> None:
-    """Refuse by name a rest point (start, end, corner) where gravity passes a torque limit."""
+def refuse_unheld(
+    limits: tuple[PathLimit, ...], q: FloatArray, where: FloatArray, rests: FloatArray
+) -> None:
+    """Refuse by name a path point where gravity alone passes a torque limit.
+
+    The arm cannot hold such a pose, so it cannot rest there (its ends, a corner);
+    nor does this timing pass through one on momentum: its stages assume that
+    standing still is within the limits.
+
+    Parameters
+    ----------
+    q : ndarray, shape (n, ndof)
+        The path at the points ``where`` (its parameter values).
+    rests : ndarray
+        The parameter values among ``where`` at which the path rests.
+    """
     for limit in limits:
         if not isinstance(limit, TorqueLimit):
             continue
@@ -436,8 +450,11 @@ def refuse_unheld(limits: tuple[PathLimit, ...], q: FloatArray, where: FloatArra
         if np.any(excess > 1e-9 * np.maximum(np.abs(upper), np.abs(lower))):
             i, j = np.unravel_index(int(np.argmax(excess)), excess.shape)
             bound = upper[j] if hold[i, j] > upper[j] else lower[j]
+            unit = limit.components()[j][1]
+            what = ("no timing can stop there" if where[i] in rests
+                    else "the timing cannot pass through a pose the arm cannot hold")  # fmt: skip
             raise InfeasibleError(
-                f"joint {limit.chain.names[j]} needs {hold[i, j]:.6g} N·m to hold the arm at rest "
-                f"at s={where[i]:.6g} (gravity alone), beyond its torque limit {bound:.6g} N·m: "
-                "no timing can stop there"
+                f"joint {limit.chain.names[j]} needs {hold[i, j]:.6g} {unit} to hold the arm "
+                f"at s={where[i]:.6g} (gravity alone), beyond its torque limit {bound:.6g} "
+                f"{unit}: {what}"
             )
