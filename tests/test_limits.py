@@ -583,3 +583,15 @@ def test_check_of_a_continuous_trajectory_lists_no_discontinuity():
     assert report.ok and report.discontinuities == ()
     sc = tk.scurve([0.0], [2.0], vmax=1.0, amax=2.0, jmax=4.0)
     assert sc.check(Limits(velocity=1.0, acceleration=2.0, jerk=4.0)).ok  # C2: jerk jumps only
+
+
+def test_merged_reports_keep_every_quantity_and_violation():
+    move = tk.cubic([0.0, 0.0], [1.0, 2.0], 1.0)
+    first = move.check(tk.Limits(velocity=1.0))
+    second = move.check(tk.Limits(acceleration=100.0))
+    merged = first.merged(second)
+    assert list(merged.peaks) == ["velocity", "acceleration"]
+    assert merged.violations == first.violations + second.violations
+    assert not merged.ok and second.ok and not first.ok
+    np.testing.assert_array_equal(merged.ratios("acceleration"), second.ratios("acceleration"))
+    assert first.merged() == first

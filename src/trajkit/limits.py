@@ -283,6 +283,15 @@ class Report:
             down = np.where(lower < 0, low / lower, np.where(low < 0, np.inf, 0.0))
         return np.maximum(np.maximum(up, down), 0.0)
 
+    def merged(self, *others: Report) -> Report:
+        """One report of this check and ``others`` (of other quantities, e.g. torque)."""
+        out = self
+        for other in others:
+            out = Report(out.violations + other.violations, {**out.peaks, **other.peaks},
+                         {**out.bounds, **other.bounds}, {**out.channels, **other.channels},
+                         out.discontinuities + other.discontinuities)  # fmt: skip
+        return out
+
     def __str__(self) -> str:
         lines = [f"limit check: {'OK' if self.ok else f'{len(self.violations)} violation(s)'}"]
         if self.peaks:

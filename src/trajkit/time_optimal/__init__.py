@@ -36,7 +36,6 @@ from trajkit.limits import Limits
 from trajkit.time_optimal.constraints import (
     COLLOCATION,
     SAMPLES,
-    LimitCheck,
     PathLimit,
     ToolLimit,
     TorqueLimit,
@@ -59,7 +58,6 @@ from trajkit.trajectory import Trajectory
 
 __all__ = [
     "GeometricPath",
-    "LimitCheck",
     "PathLimit",
     "ToolLimit",
     "TorqueLimit",
@@ -132,7 +130,7 @@ def topp(
         ``path_speed`` (ṡ at each), ``rounds`` (solves needed), ``slow_down`` (the
         uniform factor, 1 if none), ``path_error`` (0 for a Trajectory path) and,
         with ``constraints``, ``constraint_checks`` (a
-        :class:`~trajkit.time_optimal.LimitCheck` of the result for each).
+        :class:`~trajkit.Report` of the result for each, from its ``check``).
         With a jerk bound the pieces are those of the smoothed timing (three times
         the path's degree, about two per grid interval) and ``info`` holds
         ``jerk_limited``, ``grid_points``, ``rests`` (where it stops), ``windows``
@@ -317,11 +315,11 @@ def optimal_x(
         velocity_factor = np.minimum(velocity_factor, np.where(np.isnan(wanted), np.inf, wanted))
     if constraints:
         timing = timed(path, s, x)
-        worst = max((limit.check(timing) for limit in constraints), key=lambda c: c.ratio.max())
+        missed = [str(v) for limit in constraints for v in limit.check(timing).violations]
         raise InfeasibleError(
             f"no timing on this grid keeps the torque and tool limits after {_ROUNDS} "
-            f"rounds of tightening: {worst.worst}; lower the limits' demands or check "
-            "that the arm can hold the path against gravity"
+            f"rounds of tightening: {'; '.join(missed) or 'rounding at the bounds'}; try "
+            "another grid"
         )
     if x_start > 0.0 or x_end > 0.0:
         raise InfeasibleError(
@@ -377,7 +375,7 @@ def _tighten(
     """
     passed = False
     for limit, (lower, upper, hits_lo, hits_hi) in zip(constraints, bands, strict=True):
-        high, low, _ = measure(limit, timing, SAMPLES)
+        high, low, _, _ = measure(limit, timing, SAMPLES)
         bound_lo, bound_hi = limit.bounds()
         size = np.maximum(np.abs(np.where(np.isfinite(bound_lo), bound_lo, 0.0)),
                           np.abs(np.where(np.isfinite(bound_hi), bound_hi, 0.0)))  # fmt: skip

@@ -42,10 +42,11 @@ from trajkit.errors import InfeasibleError, InvalidInputError
 from trajkit.kinematics.chain import SerialChain
 from trajkit.kinematics.dynamics import STANDARD_GRAVITY, inverse_dynamics, path_dynamics
 from trajkit.kinematics.inertials import Inertials
-from trajkit.limits import parse_bounds
-from trajkit.trajectory import Trajectory
+from trajkit.limits import Report, Violation, compare, parse_bounds
+from trajkit.tolerances import LIMIT_RTOL
+from trajkit.trajectory import Extrema, Trajectory
 
-__all__ = ["COLLOCATION", "LimitCheck", "PathLimit", "ToolLimit", "TorqueLimit"]
+__all__ = ["COLLOCATION", "PathLimit", "ToolLimit", "TorqueLimit"]
 
 #: Where in each grid interval (fraction of its length) the solver keeps the bounds.
 COLLOCATION = (0.0, 0.5, 1.0)
@@ -54,32 +55,6 @@ COLLOCATION = (0.0, 0.5, 1.0)
 _DIRECTIONS = 16
 #: Samples per timed piece at which the bounds are measured.
 SAMPLES = 16
-
-
-@dataclass(frozen=True)
-class LimitCheck:
-    """A motion measured against a :class:`PathLimit`.
-
-    Attributes
-    ----------
-    ok : bool
-        Every measure within its bound (to a relative 1e-9).
-    ratio : ndarray, shape (k,)
-        Per component, the largest ratio of the measure to the bound on its side
-        (1 at the bound).
-    names : list of str
-        The components (joint names, or ``tool speed``...).
-    worst : str
-        The component nearest its bound (or most beyond it), its value, bound and time.
-    """
-
-    ok: bool
-    ratio: FloatArray
-    names: list[str]
-    worst: str
-
-    def __str__(self) -> str:
-        return ("OK" if self.ok else "VIOLATED") + f": {self.worst}"
 
 
 class PathLimit:
@@ -113,7 +88,7 @@ class PathLimit:
         """The measured quantity (n, k) at joint states (n, ndof)."""
         raise NotImplementedError
 
-    def check(self, trajectory: Trajectory, *, samples: int = SAMPLES) -> LimitCheck:
+    def check(self, trajectory: Trajectory, *, samples: int = SAMPLES) -> Report:
         """Measure a joint trajectory against this bound, as :func:`~trajkit.topp` does.
 
         Parameters
@@ -121,11 +96,16 @@ class PathLimit:
         trajectory : Trajectory
             Joint positions in time, of the chain's joints.
         samples : int
-            Sample intervals per piece (>= 2).
+            Sample intervals per piece (>= 2). Each piece's values at its samples,
+            widened by one eighth of their largest second difference, are compared
+            with the bounds (see the module notes).
 
         Returns
         -------
-        LimitCheck
+        Report
+            As :meth:`Trajectory.check <trajkit.Trajectory.check>`'s: ``ok``, the
+            violations (relative tolerance 1e-9), and per quantity (``torque``,
+            ``tool speed``...) the peaks and bounds.
         """
         if not isinstance(trajectory, Trajectory):
             raise InvalidInputError(
@@ -133,42 +113,32 @@ class PathLimit:
             )
         if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
             raise InvalidInputError(f"samples must be a whole number >= 2, got {samples!r}")
-        high, low, times = measure(self, trajectory, int(samples))
+        high, low, when_high, when_low = measure(self, trajectory, int(samples))
         lower, upper = self.bounds()
-        ratio_hi, ratio_lo = _ratio(high, upper, 1.0), _ratio(low, lower, -1.0)
-        per_piece = np.maximum(ratio_hi, ratio_lo)  # (pieces, k)
-        ratio = per_piece.max(axis=0)
-        piece, k = np.unravel_index(int(np.argmax(per_piece)), per_piece.shape)
-        names = self.components()
-        side_hi = ratio_hi[piece, k] >= ratio_lo[piece, k]
-        value = high[piece, k] if side_hi else low[piece, k]
-        bound = upper[k] if side_hi else lower[k]
-        name, unit = names[k]
-        worst = (
-            f"{name} reaches {value:.6g} {unit} against {bound:.6g} {unit} "
-            f"(ratio {ratio[k]:.6g}) in the piece from t={times[piece]:.6g} s"
-        )
-        ok = bool(np.all(ratio <= 1.0 + 1e-9))
-        return LimitCheck(ok, ratio, [n for n, _ in names], worst)
+        violations: list[Violation] = []
+        peaks, bounds, channels = {}, {}, {}
+        for quantity, entries, labels in self.quantities():
+            k = np.asarray(entries)
+            top, bottom = high[:, k].argmax(axis=0), low[:, k].argmin(axis=0)
+            found = Extrema(1, low[bottom, k], when_low[bottom, k], high[top, k],
+                            when_high[top, k])  # fmt: skip
+            peaks[quantity] = (found.minimum, found.maximum)
+            bounds[quantity] = (lower[k], upper[k])
+            if labels:
+                channels[quantity] = labels
+            violations += compare(quantity, found, lower[k], upper[k], LIMIT_RTOL, labels)
+        return Report(tuple(violations), peaks, bounds, channels)
 
-
-def _ratio(value: FloatArray, bound: FloatArray, side: float) -> FloatArray:
-    """``value / bound`` for the bound on ``side`` (+1 upper, -1 lower).
-
-    1 at the bound, > 1 beyond it; -inf without a bound; for a bound of 0, 0 within
-    it and inf beyond.
-    """
-    finite = np.isfinite(bound) & (bound != 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(finite, value / np.where(finite, bound, 1.0), -np.inf)
-    return np.where(bound == 0, np.where(side * value > 0, np.inf, 0.0), ratio)
+    def quantities(self) -> list[tuple[str, list[int], tuple[str, ...]]]:
+        """Each quantity checked: its name, its components, and their labels (or joints)."""
+        raise NotImplementedError
 
 
 def measure(limit: PathLimit, trajectory: Trajectory, samples: int
-            ) -> tuple[FloatArray, FloatArray, FloatArray]:  # fmt: skip
+            ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
     """Per piece and component, the largest and least values with the curvature margin.
 
-    Returns ``high``, ``low`` (pieces, k) and the pieces' start times.
+    Returns ``high``, ``low`` (pieces, k) and the times of the samples they come from.
     """
     start = trajectory.breakpoints[:-1]
     length = np.diff(trajectory.breakpoints)
@@ -179,10 +149,11 @@ def measure(limit: PathLimit, trajectory: Trajectory, samples: int
     flat = t.ravel()
     q, qd, qdd = (trajectory.evaluate(flat, order) for order in range(3))
     values = limit.values(q, qd, qdd).reshape(t.shape[0], samples + 1, -1)
-    bend = np.zeros(values.shape[::2])
-    if samples >= 2:
-        bend = np.abs(values[:, :-2] - 2.0 * values[:, 1:-1] + values[:, 2:]).max(axis=1) / 8.0
-    return values.max(axis=1) + bend, values.min(axis=1) - bend, start
+    # Between two samples a smooth function rises at most |f''| h² / 8 above them.
+    bend = np.abs(values[:, :-2] - 2.0 * values[:, 1:-1] + values[:, 2:]).max(axis=1) / 8.0
+    top, bottom = values.argmax(axis=1), values.argmin(axis=1)  # (pieces, k)
+    rows = np.arange(t.shape[0])[:, None]
+    return (values.max(axis=1) + bend, values.min(axis=1) - bend, t[rows, top], t[rows, bottom])
 
 
 def _chain(chain: object) -> SerialChain:
@@ -262,6 +233,9 @@ class TorqueLimit(PathLimit):
     def bounds(self) -> tuple[FloatArray, FloatArray]:  # noqa: D102 - see PathLimit
         return self._bounds
 
+    def quantities(self) -> list[tuple[str, list[int], tuple[str, ...]]]:  # noqa: D102
+        return [("torque", list(range(self.chain.ndof)), ())]
+
     def rows(self, q, dq, ddq, lower, upper):  # noqa: D102 - see PathLimit.rows
         a, b, c = path_dynamics(self.chain, q, dq, ddq, inertials=self.inertials,
                                 gravity=self.gravity)  # fmt: skip
@@ -333,6 +307,10 @@ class ToolLimit(PathLimit):
     def bounds(self) -> tuple[FloatArray, FloatArray]:  # noqa: D102 - see PathLimit
         upper = np.array([getattr(self, kind) for kind in self._kinds])
         return np.full(upper.size, -np.inf), upper
+
+    def quantities(self) -> list[tuple[str, list[int], tuple[str, ...]]]:  # noqa: D102
+        return [(f"tool {kind.replace('_', ' ')}", [k], ("tool",))
+                for k, kind in enumerate(self._kinds)]  # fmt: skip
 
     def rows(self, q, dq, ddq, lower, upper):  # noqa: D102 - see PathLimit.rows
         jacobian = self.chain.jacobian(q)  # (n, 6, ndof)

@@ -550,7 +550,8 @@ def constraints(
         units = sorted({components[k][1] for k in group})
         quantity = "torque" if item.quantity == "torque" else components[group[0]][0]
         ylabels.append(f"{quantity} [{' | '.join(units)}]")
-        worst = max(worst, float(item.check(trajectory).ratio.max()))
+        measured = item.check(trajectory)
+        worst = max(worst, *(float(measured.ratios(q).max()) for q in measured.peaks))
     _label_time_panels(axes, ylabels, "best", 3)
     axes[0].set_title(title or f"against the limits: at most {worst:.4g} of a bound")
     return figure
