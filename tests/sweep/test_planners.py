@@ -317,6 +317,33 @@ def test_task_space_rows_and_an_unreachable_line(tmp_path):
         assert table["feasible"][i].as_py()
 
 
+def test_task_space_rows_with_torque_and_tool_speed_limits(tmp_path):
+    p0 = [0.4, 0.0, 0.3]
+    targets = [[0.45, 0.3, 0.45], [0.3, -0.25, 0.25]]
+    data = {"sweep": {"planner": "task_space", "chunk": 2, "samples": 30, "grid": 80},
+            "robot": {"name": "ur5"},
+            "fixed": {"p0": p0, "vmax": 3.0, "amax": 60.0, "tool_speed": 0.3,
+                      "torque": [150, 150, 150, 28, 28, 28]},
+            "swept": {"pf": {"values": targets}}}  # fmt: skip
+    summary, table = planned(data, tmp_path)
+    assert table.num_rows == 2 and summary.failed == 0 and summary.infeasible == 0
+    arm = BUILTIN["ur5"]()
+    limits = tk.Limits(velocity=np.full(6, 3.0), acceleration=np.full(6, 60.0))
+    torque, tool = tk.TorqueLimit(arm), tk.ToolLimit(arm, speed=0.3)
+    for i in range(2):
+        move = time_optimal(arm, Line(p0, targets[i]), limits, samples=30, grid=80,
+                            constraints=[torque, tool])  # fmt: skip
+        assert table["duration"][i].as_py() == pytest.approx(move.trajectory.duration,
+                                                             rel=SAME_CODE)  # fmt: skip
+        speed = tool.check(move.trajectory).peaks["tool speed"][1][0]
+        assert table["peak_tool_speed_1"][i].as_py() == pytest.approx(speed, rel=PEAKS)
+        assert 0.299 < speed <= 0.3 * (1 + 1e-9)  # the tool speed binds
+        low, high = torque.check(move.trajectory).peaks["torque"]
+        np.testing.assert_allclose(matrix(table, "peak_torque", 6)[i],
+                                   np.maximum(np.abs(low), np.abs(high)), rtol=PEAKS)  # fmt: skip
+    assert all(table["feasible"].to_pylist())
+
+
 def test_mobile_rows_with_the_base_default_limits(tmp_path):
     data = {"sweep": {"planner": "mobile", "problems": 6, "chunk": 3, "seed": 8},
             "robot": {"name": "jackal"},

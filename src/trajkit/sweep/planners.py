@@ -76,15 +76,17 @@ class Planner:
 
 
 # --------------------------------------------------------------------------- rows
-def _empty(n: int, width: int, quantities: tuple[str, ...]) -> dict[str, np.ndarray]:
+def _empty(n: int, width: int, quantities: tuple[str, ...],
+           widths: dict[str, int] | None = None) -> dict[str, np.ndarray]:  # fmt: skip
+    """Empty rows; ``widths`` gives a quantity's entries where they are not ``width``."""
     columns: dict[str, np.ndarray] = {
         "duration": np.full(n, np.nan),
         "feasible": np.zeros(n, dtype=bool),
         "worst_violation": np.full(n, np.nan),
     }
     for quantity in quantities:
-        for j in range(width):
-            columns[f"peak_{quantity}_{j + 1}"] = np.full(n, np.nan)
+        for j in range((widths or {}).get(quantity, width)):
+            columns[f"peak_{_column(quantity)}_{j + 1}"] = np.full(n, np.nan)
     columns["error"] = np.full(n, "", dtype=object)
     return columns
 
@@ -103,13 +105,18 @@ def _fill(columns: dict[str, np.ndarray], where: np.ndarray, duration: FloatArra
     worst = np.zeros(where.size)
     for quantity, peak in peaks.items():
         for j in range(peak.shape[1]):
-            columns[f"peak_{quantity}_{j + 1}"][where] = peak[:, j]
+            columns[f"peak_{_column(quantity)}_{j + 1}"][where] = peak[:, j]
         worst = np.maximum(worst, (ratios[quantity] - 1.0).max(axis=1))
     columns["worst_violation"][where] = np.maximum(worst, 0.0)
     # NaN (a peak that is not a number) is no proof of feasibility: `<=` says False;
     # nor is a plan without a finite duration.
     kept = worst <= LIMIT_RTOL if verdict is None else verdict
     columns["feasible"][where] = kept & np.isfinite(duration)
+
+
+def _column(quantity: str) -> str:
+    """A quantity's name in column names: "tool speed" is ``peak_tool_speed_1``."""
+    return quantity.replace(" ", "_")
 
 
 def _failed(columns: dict[str, np.ndarray], index: int, error: Exception,
@@ -333,14 +340,16 @@ def _one_by_one(
     plan_one: Callable[[int], tuple[Any, Report]],
     step: float | None,
     sample: Callable[[Any, FloatArray], FloatArray],
+    widths: dict[str, int] | None = None,
 ) -> ChunkResult:
     """Plan each problem: ``plan_one(i)`` gives the plan and its limit check.
 
     A row is feasible exactly when its check is ``ok``; its worst violation also
     counts the check's violations (an unbounded derivative where two pieces meet
-    is a violation of value ``inf`` whatever the peaks say).
+    is a violation of value ``inf`` whatever the peaks say). ``widths`` gives a
+    quantity's entries where they are not ``width`` (a tool speed has one).
     """
-    columns = _empty(n, width, quantities)
+    columns = _empty(n, width, quantities, widths)
     plans: dict[int, Any] = {}
     peaks: dict[str, list[FloatArray]] = {q: [] for q in quantities}
     ratios: dict[str, list[FloatArray]] = {q: [] for q in quantities}
@@ -423,15 +432,26 @@ def _run_task_space(robot: dict, options: dict, values: dict, step: float | None
     arm = robot["arm"]
     n = values["p0"].shape[0]
     width = arm.ndof
-    quantities = ("velocity", "acceleration")
+    # Torque and tool speed limits, when the sweep gives them, are kept by the timing
+    # and counted in each row's check.
+    extra = [name for name in ("torque", "tool_speed") if name in values]
+    quantities = ("velocity", "acceleration", *(name.replace("_", " ") for name in extra))
 
     def plan_one(i: int) -> tuple[Any, Report]:
         limits = tk.Limits(velocity=values["vmax"][i], acceleration=values["amax"][i])
+        path_limits = []
+        if "torque" in values:
+            path_limits.append(tk.TorqueLimit(arm, values["torque"][i]))
+        if "tool_speed" in values:
+            path_limits.append(tk.ToolLimit(arm, speed=float(values["tool_speed"][i, 0])))
         move = time_optimal(arm, Line(values["p0"][i], values["pf"][i]), limits,
-                            samples=options["samples"], grid=options["grid"])  # fmt: skip
-        return move.trajectory, move.trajectory.check(limits)
+                            samples=options["samples"], grid=options["grid"],
+                            constraints=path_limits)  # fmt: skip
+        plan = move.trajectory
+        return plan, plan.check(limits).merged(*(limit.check(plan) for limit in path_limits))
 
-    return _one_by_one(n, width, quantities, plan_one, step, lambda p, t: p.position(t))
+    return _one_by_one(n, width, quantities, plan_one, step, lambda p, t: p.position(t),
+                       {"tool speed": 1})  # fmt: skip
 
 
 def _base_robot(table: Table) -> dict[str, Any]:
@@ -514,10 +534,12 @@ PLANNERS: dict[str, Planner] = {
         _run_topp,
     ),
     "task_space": Planner(
-        {"p0": None, "pf": None, "vmax": None, "amax": None},
+        {"p0": None, "pf": None, "vmax": None, "amax": None, "torque": OPTIONAL,
+         "tool_speed": OPTIONAL},
         {"samples": 100, "grid": 200}, _arm_robot,
         lambda robot, options: {"p0": 3, "pf": 3, "vmax": robot["joints"],
-                                "amax": robot["joints"]},
+                                "amax": robot["joints"], "torque": robot["joints"],
+                                "tool_speed": 1},
         _run_task_space,
     ),
     "mobile": Planner(
