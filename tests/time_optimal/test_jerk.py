@@ -6,7 +6,9 @@ limit holds exactly (``check``), the tightest one is reached (not needlessly slo
 the motion is at rest with zero acceleration at both ends and wherever the path's
 tangent or curvature jumps, it is never faster than the unlimited optimum and tends
 to it as the jerk bound grows, and a straight leg is never faster than the exact
-jerk-limited optimum (``tk.scurve``). ``moving_average`` against numerical
+jerk-limited optimum (``tk.scurve``). With non-zero boundary speeds: the motion
+starts and ends exactly at the path's ends, at those speeds, with zero path
+acceleration, and keeps every limit. ``moving_average`` against numerical
 quadrature.
 """
 
@@ -196,11 +198,59 @@ def test_jerk_limited_timing_does_not_crash_on_uniform_grid_steps(path):
     assert timed.check(limits).ok
 
 
-@pytest.mark.parametrize("speeds", [(0.5, 0.0), (0.0, 0.5), (0.2, 0.3)])
-def test_nonzero_boundary_speed_is_refused_with_a_jerk_bound(speeds):
-    with pytest.raises(InvalidInputError, match="jerk-limited timing starts and ends at rest") as e:
-        topp(spline(1), with_jerk(10.0), start_speed=speeds[0], end_speed=speeds[1])
-    assert f"got {list(speeds)}" in str(e.value)
+def assert_moving_ends(timed, path, speeds, limits):
+    """Every limit kept; the ends at the path's ends, at their speeds, with s̈ = 0."""
+    assert timed.check(limits).ok
+    ends = [0.0, timed.end_time]
+    s_ends = path.breakpoints[[0, -1]]
+    np.testing.assert_allclose(timed(ends), path(s_ends), rtol=0, atol=ENDS)
+    for k, (t, s, speed) in enumerate(zip(ends, s_ends, speeds, strict=True)):
+        # q̇ = q' ṡ and q̈ = q'' ṡ² + q' s̈ with s̈ = 0: read a hair inside the end.
+        side = np.nextafter(s, path.breakpoints[1 - k]) if k else s
+        np.testing.assert_allclose(timed.velocity(t), path.evaluate(side, 1) * speed,
+                                   rtol=0, atol=REST)  # fmt: skip
+        np.testing.assert_allclose(timed.acceleration(t), path.evaluate(side, 2) * speed**2,
+                                   rtol=0, atol=REST)  # fmt: skip
+
+
+@pytest.mark.parametrize("speeds", [(0.05, 0.0), (0.0, 0.05), (0.04, 0.03)])
+def test_non_zero_boundary_speeds_are_kept_with_a_jerk_bound(speeds):
+    path, limits = spline(1), with_jerk(10.0)
+    timed = topp(path, limits, start_speed=speeds[0], end_speed=speeds[1])
+    assert_moving_ends(timed, path, speeds, limits)
+    assert timed.info["jerk_limited"] and timed.info["continuity"] == 2
+    assert_continuous(timed, 2)
+    # Entering and leaving at speed is faster than from rest to rest.
+    assert timed.duration < topp(path, limits).duration
+
+
+def test_a_moving_start_and_a_corner_rest():
+    path, limits = corner_path(), with_jerk(20.0)
+    timed = topp(path, limits, grid=300, start_speed=0.1)
+    assert_moving_ends(timed, path, (0.1, 0.0), limits)
+    corner = timed.first_time_at([1.0, 0.0])[0]
+    np.testing.assert_allclose(timed.velocity(corner), 0.0, atol=REST)
+
+
+@FEW
+@given(seed=st.integers(0, 2**31), fractions=st.tuples(st.floats(0.0, 0.8), st.floats(0.0, 0.8)),
+       jerk=st.floats(2.0, 200.0))  # fmt: skip
+def test_property_moving_ends_keep_every_limit(seed, fractions, jerk):
+    path, limits = spline(seed), with_jerk(jerk)
+    # The fastest ṡ each end allows under the velocity limit, times a fraction.
+    fastest = [1.0 / np.abs(path.evaluate(s, 1)).max() for s in path.breakpoints[[0, -1]]]
+    speeds = tuple(float(f * v) for f, v in zip(fractions, fastest, strict=True))
+    try:
+        timed = topp(path, limits, start_speed=speeds[0], end_speed=speeds[1])
+    except tk.InfeasibleError as exc:  # too fast to hold for the window: said so
+        assert "start_speed" in str(exc) and "end_speed" in str(exc)
+        return
+    assert_moving_ends(timed, path, speeds, limits)
+
+
+def test_boundary_speeds_beyond_the_limits_are_refused_by_name():
+    with pytest.raises(tk.InfeasibleError, match=r"start_speed 0\.2 .* breaks the limits there"):
+        topp(spline(1), with_jerk(10.0), start_speed=0.2, end_speed=0.3)
 
 
 # moving_average ----------------------------------------------------------------------

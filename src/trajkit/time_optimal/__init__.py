@@ -112,7 +112,8 @@ def topp(
         intervals. More points, a shorter timing.
     start_speed, end_speed : float
         Path speeds ``ṡ`` at the start and at the end (units of ``s`` per second),
-        >= 0. Jerk-limited timings start and end at rest.
+        >= 0. A jerk-limited timing holds a non-zero one for a moment (zero path
+        acceleration at that end).
     constraints : TorqueLimit, ToolLimit or a list of them, optional
         Further limits along the path: actuator torques
         (:class:`~trajkit.time_optimal.TorqueLimit`), the tool's speed,
@@ -208,12 +209,7 @@ def topp(
     if limits.jerk is not None:
         from trajkit.time_optimal.jerk import smoothed
 
-        if max(speeds) > 0.0:
-            raise InvalidInputError(
-                "a jerk-limited timing starts and ends at rest: start_speed and end_speed "
-                f"must be 0, got {list(speeds)}"
-            )
-        return smoothed(polynomial, points, limits, stray)
+        return smoothed(polynomial, points, limits, stray, speeds)
     # Limits near the float64 range overflow in the solve; the result is checked below.
     if extra:
         rests = [0] * (speeds[0] == 0.0) + [points.size - 1] * (speeds[1] == 0.0)
@@ -250,6 +246,7 @@ def optimal_x(
     speeds: tuple[float, float] = (0.0, 0.0),
     stops: ArrayLike = (),
     constraints: tuple[PathLimit, ...] = (),
+    ceiling: FloatArray | None = None,
 ) -> tuple[FloatArray, int, float]:
     """``x = ṡ²`` at the grid points, tightened until the timed path keeps every limit.
 
@@ -268,6 +265,8 @@ def optimal_x(
     constraints : tuple of PathLimit
         Torque and tool limits, measured on the timed pieces and tightened per
         interval until kept; no uniform slow-down with them.
+    ceiling : ndarray, shape (N + 1,), optional
+        The most ``x`` may be at each grid point (1/s²; ``inf`` where free).
 
     Returns
     -------
@@ -292,6 +291,10 @@ def optimal_x(
     stages = Stages(channels, _rows(constraints, bands, states, s))
     n = s.size
     velocity_factor, acceleration_scale = np.ones(n), np.ones(n - 1)
+    if ceiling is not None:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            below = ceiling / stages.velocity_cap
+        velocity_factor = np.minimum(velocity_factor, np.where(np.isnan(below), 1.0, below))
     x_start, x_end = speeds[0] ** 2, speeds[1] ** 2
     for rounds in range(1, _ROUNDS + 1):
         x = stages.solve(x_start, x_end, velocity_factor, acceleration_scale)

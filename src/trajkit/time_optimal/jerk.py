@@ -24,6 +24,15 @@ A few windows around ``a_max / j_max`` are tried, and the fastest result kept. T
 result is not time-optimal under the jerk limit (that problem is not convex), but
 it is feasible, smooth, and typically within tens of percent of the
 velocity/acceleration optimum.
+
+**Moving ends.** A non-zero start (or end) speed ``ṡ_0`` cannot survive a uniform
+time scale, which would change it, nor an average that holds ``s`` at its end. So
+there the profile is held at ``ṡ_0`` (``x <= ṡ_0²``) for the first half window
+of time, ``s`` is continued before the start as ``s_0 + ṡ_0 t``, and the average,
+which leaves a straight line unchanged, is cut at the start: it begins exactly at
+``(s_0, ṡ_0, s̈ = 0)``. The limits are then met by tightening the velocity and
+acceleration bounds the profile is computed under (by ``1/k`` and ``1/k²`` for
+the scale ``k`` the peaks ask for) and computing it again, a few rounds at most.
 """
 
 from __future__ import annotations
@@ -44,9 +53,12 @@ __all__ = ["moving_average", "smoothed"]
 
 #: Windows tried, as multiples of the typical a_max / j_max.
 _WINDOWS = (0.5, 1.0, 2.0)
+#: Rounds of tightening the bounds for a timing with moving ends.
+_ROUNDS = 8
 
 
-def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float) -> Trajectory:
+def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
+             speeds: tuple[float, float] = (0.0, 0.0)) -> Trajectory:  # fmt: skip
     """The jerk-limited timing of ``path`` on the grid ``s`` (see the module notes).
 
     Parameters
@@ -59,12 +71,15 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float) -> T
         Velocity, acceleration and jerk bounds per joint.
     stray : float
         How far ``path`` strays from the user's path (recorded in ``info``).
+    speeds : tuple of float
+        Path speeds at the start and the end (1/s).
 
     Returns
     -------
     Trajectory
-        At rest with zero acceleration at both ends and at every rest; every limit
-        holds exactly and the tightest is just reached.
+        With zero acceleration at both ends and at every rest, at rest there unless
+        ``speeds`` says otherwise; every limit holds exactly, and at rest to rest
+        the tightest is just reached.
     """
     from trajkit.time_optimal import _sides, jumps, optimal_x
 
@@ -73,6 +88,8 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float) -> T
     acceleration = _sides(limits, "acceleration", ndof)
     jerk = _sides(limits, "jerk", ndof)
     rests = np.union1d(jumps(path, 1), jumps(path, 2))
+    if max(speeds) > 0.0:
+        return _moving_ends(path, s, (velocity, acceleration, jerk), rests, stray, speeds)
     stops = np.searchsorted(s, rests)
     x, rounds, _ = optimal_x(path, s, velocity, acceleration, stops=stops)
     speed = np.sqrt(x)
@@ -112,6 +129,107 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float) -> T
                       **rest_states(path, s, (0.0, 0.0)))  # fmt: skip
 
 
+def _moving_ends(
+    path: Trajectory,
+    s: FloatArray,
+    bounds: tuple[tuple[FloatArray, FloatArray], ...],
+    rests: FloatArray,
+    stray: float,
+    speeds: tuple[float, float],
+) -> Trajectory:
+    """The jerk-limited timing with a non-zero start or end speed (module notes)."""
+    velocity, acceleration, jerk = bounds
+    checked = Limits(velocity=velocity, acceleration=acceleration, jerk=jerk)
+    typical = float(np.median(np.minimum(-acceleration[0], acceleration[1])
+                              / np.minimum(-jerk[0], jerk[1])))  # fmt: skip
+    scale, failure = 1.0, ""
+    for _ in range(_ROUNDS):
+        best, need = None, np.inf
+        for factor in _WINDOWS:
+            tightened = (tuple(side * scale for side in velocity),
+                         tuple(side * scale**2 for side in acceleration))  # fmt: skip
+            try:
+                curve, grid = _held_ends(path, s, tightened, rests, speeds, factor * typical)
+            except InfeasibleError as exc:
+                failure = str(exc)
+                continue
+            ask = _scale_to(curve, checked)
+            if ask <= 1.0 and (best is None or curve.duration < best[0].duration):
+                best = (curve, grid, factor * typical)
+            need = min(need, ask)
+        if best is not None:
+            curve, grid, window = best
+            info = {"planner": "topp", "continuity": 2, "jerk_limited": True,
+                    "grid_points": grid, "rests": rests, "windows": (window,),
+                    "rounds": _ + 1, "path_error": stray}  # fmt: skip
+            return Trajectory(curve.breakpoints, curve.coefficients, info=info,
+                              **rest_states(path, s, speeds))  # fmt: skip
+        if not np.isfinite(need):
+            break
+        scale /= need * (1.0 + 1e-3)
+    raise InfeasibleError(
+        f"no jerk-limited timing found with start_speed {speeds[0]:g} and end_speed "
+        f"{speeds[1]:g}: {failure or 'the limits could not be met'}; lower speeds at the "
+        "ends leave the timing more room"
+    )
+
+
+def _held_ends(
+    path: Trajectory,
+    s: FloatArray,
+    bounds: tuple[tuple[FloatArray, FloatArray], tuple[FloatArray, FloatArray]],
+    rests: FloatArray,
+    speeds: tuple[float, float],
+    window: float,
+) -> tuple[Trajectory, FloatArray]:
+    """The smoothed timing under ``bounds``, held at the end speeds for half a window."""
+    from trajkit.time_optimal import optimal_x
+
+    half = window / 2.0
+    start, end = float(s[0]), float(s[-1])
+    # An end speed that covers no resolvable stretch of s in half a window is a rest.
+    speeds = tuple(v if v * half > 1e-9 * (end - start) else 0.0 for v in speeds)  # type: ignore[assignment]
+    # The stretches of s covered at the end speeds in half a window; the grid gets
+    # their edges, and x is capped at the end speed's square on them.
+    reach = (start + speeds[0] * half, end - speeds[1] * half)
+    inner = [value for value in reach if start < value < end]
+    grid = np.union1d(s, inner)
+    if reach[0] >= reach[1] or (rests.size and (reach[0] >= rests.min()
+                                                or reach[1] <= rests.max())):  # fmt: skip
+        raise InfeasibleError("the path is too short to hold its end speeds for the "
+                              "jerk limit's smoothing window")  # fmt: skip
+    ceiling = np.full(grid.size, np.inf)
+    held_start = grid <= reach[0] if speeds[0] > 0 else np.zeros(grid.size, dtype=bool)
+    held_end = grid >= reach[1] if speeds[1] > 0 else np.zeros(grid.size, dtype=bool)
+    ceiling[held_start] = speeds[0] ** 2
+    ceiling[held_end] = speeds[1] ** 2
+    stops = np.searchsorted(grid, rests)
+    x, _, _ = optimal_x(path, grid, *bounds, speeds, stops=stops, ceiling=ceiling)
+    for held, speed in ((held_start, speeds[0]), (held_end, speeds[1])):
+        if np.any(x[held] < speed**2 * (1.0 - 1e-9)):
+            raise InfeasibleError(f"the end speed {speed:g} cannot be held for the jerk "
+                                  "limit's smoothing window within the limits")  # fmt: skip
+        x[held] = speed**2  # held: s̈ = 0 there, exactly
+    speed = np.sqrt(x)
+    total = speed[:-1] + speed[1:]
+    if np.any(total <= 0.0):
+        raise InfeasibleError("the path speed vanishes on a whole interval: the path is not "
+                              "traversable within the limits")  # fmt: skip
+    durations = 2.0 * np.diff(grid) / total
+    u = (x[1:] - x[:-1]) / (2.0 * np.diff(grid))
+    edges = np.union1d([0, grid.size - 1], stops).tolist()
+    pieces = []
+    for k, (first, last) in enumerate(itertools.pairwise(edges)):
+        span = slice(first, last)
+        moving = (speeds[0] if k == 0 else 0.0, speeds[1] if last == grid.size - 1 else 0.0)
+        pieces.append(_segment(path, grid[first : last + 1], speed[first:last], u[span],
+                               durations[span], window, moving))  # fmt: skip
+    result = pieces[0]
+    for piece in pieces[1:]:
+        result = result.then(piece)
+    return result, grid
+
+
 def _scale_to(curve: Trajectory, limits: Limits) -> float:
     """The time scale at which the tightest of the limits is just reached."""
     report = curve.check(limits)
@@ -123,9 +241,10 @@ def _scale_to(curve: Trajectory, limits: Limits) -> float:
     return need * (1.0 + ROUNDING_RTOL)
 
 
-def moving_average(times: FloatArray, sigma: FloatArray, window: float
+def moving_average(times: FloatArray, sigma: FloatArray, window: float,
+                   rates: tuple[float, float] = (0.0, 0.0)
                    ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
-    """The moving average over ``window`` of a piecewise polynomial held at its ends.
+    """The moving average over ``window`` of a piecewise polynomial continued at its ends.
 
     Parameters
     ----------
@@ -135,6 +254,9 @@ def moving_average(times: FloatArray, sigma: FloatArray, window: float
         ``f`` on each piece, ascending powers of the local time.
     window : float
         Width ``w`` > 0 of the average.
+    rates : tuple of float
+        ``f`` is continued before its start and after its end as straight lines of
+        these slopes (0: held at its end values).
 
     Returns
     -------
@@ -151,7 +273,8 @@ def moving_average(times: FloatArray, sigma: FloatArray, window: float
     knots = np.concatenate([[start - window], times, [end + window]])
     degree = sigma.shape[1] - 1
     pieces = np.zeros((sigma.shape[0] + 2, degree + 1))
-    pieces[0, 0], pieces[-1, 0] = value_start, value_end
+    pieces[0, 0], pieces[-1, 0] = value_start - rates[0] * window, value_end
+    pieces[0, 1], pieces[-1, 1] = rates
     pieces[1:-1] = sigma
     # Antiderivative on each piece (ascending), continuous across pieces.
     integral = np.zeros((pieces.shape[0], degree + 2))
@@ -175,6 +298,25 @@ def moving_average(times: FloatArray, sigma: FloatArray, window: float
     return edges - edges[0], out / window
 
 
+def _cut_to_ends(edges: FloatArray, average: FloatArray, half: float,
+                 moving: tuple[float, float]) -> tuple[FloatArray, FloatArray]:  # fmt: skip
+    """The average from the original start to the original end where that end moves.
+
+    It covers half a window before the start and after the end; where ``s`` was
+    continued as a straight line, that half is cut off, exactly at the end's time.
+    """
+    first = half if moving[0] > 0.0 else float(edges[0])
+    last = float(edges[-1]) - half if moving[1] > 0.0 else float(edges[-1])
+    tiny = ROUNDING_RTOL * (edges[-1] - edges[0])  # an edge a rounding from a cut is the cut
+    inside = edges[(edges > first + tiny) & (edges < last - tiny)]
+    kept = np.concatenate([[first], inside, [last]])
+    where = np.clip(np.searchsorted(edges, kept[:-1] + tiny, side="right") - 1, 0,
+                    average.shape[0] - 1)  # fmt: skip
+    shift = kept[:-1] - edges[where]
+    descending = _poly.shift_origin(average[where][:, ::-1].T, -shift)
+    return kept - first, descending[::-1].T
+
+
 def _distinct(edges: FloatArray) -> FloatArray:
     """Sorted edges without the near-duplicates that shifted knots leave (1e-12 of the span).
 
@@ -190,11 +332,18 @@ def _distinct(edges: FloatArray) -> FloatArray:
 
 
 def _segment(path: Trajectory, s: FloatArray, speed: FloatArray, u: FloatArray,
-             durations: FloatArray, window: float) -> Trajectory:  # fmt: skip
-    """One rest-to-rest stretch of the path, timed by the smoothed ``s(t)``."""
+             durations: FloatArray, window: float,
+             moving: tuple[float, float] = (0.0, 0.0)) -> Trajectory:  # fmt: skip
+    """One stretch of the path between rests, timed by the smoothed ``s(t)``.
+
+    ``moving`` gives the path speed at an end that does not rest: there ``s`` goes
+    on as a straight line, and the average is cut at the end itself.
+    """
     times = np.concatenate([[0.0], np.cumsum(durations)])
     sigma = np.stack([s[:-1], speed, u / 2.0], axis=1)  # absolute s, ascending in tau
-    edges, average = moving_average(times, sigma, window)
+    edges, average = moving_average(times, sigma, window, moving)
+    if max(moving) > 0.0:
+        edges, average = _cut_to_ends(edges, average, window / 2.0, moving)
     # Split where the smoothed s crosses the path's breakpoints, so that each time
     # piece lies in one path piece.
     inner = path.breakpoints[(path.breakpoints > s[0]) & (path.breakpoints < s[-1])]
