@@ -23,7 +23,6 @@ from scipy.integrate import quad
 
 import trajkit as tk
 from support import assert_continuous
-from trajkit.errors import InvalidInputError
 from trajkit.time_optimal import topp
 from trajkit.time_optimal.jerk import moving_average
 
