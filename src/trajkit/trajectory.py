@@ -159,14 +159,15 @@ class Trajectory(Curve):
         coefficients: FloatArray,
         info: Mapping[str, Any],
         end: FloatArray | None = None,
+        start: FloatArray | None = None,
     ) -> Trajectory:
         """A trajectory from arrays a planner has built and checked (nothing re-validated).
 
         For planners' hot paths, as :meth:`scipy.interpolate.PPoly.construct_fast`:
-        ``breakpoints`` increasing, ``coefficients`` (k + 1, m, ndof) finite, ``end``
-        (r, ndof) agreeing with the pieces up to rounding (NaN: the polynomial's), all
-        owned by the new object; ``info`` any read-only mapping (it may build its
-        values on first access).
+        ``breakpoints`` increasing, ``coefficients`` (k + 1, m, ndof) finite, ``start``
+        and ``end`` (r, ndof) agreeing with the pieces up to rounding (NaN: the
+        polynomial's), all owned by the new object; ``info`` any read-only mapping (it
+        may build its values on first access).
         """
         self = object.__new__(cls)
         breakpoints.setflags(write=False)
@@ -175,10 +176,10 @@ class Trajectory(Curve):
         self._coefficients = coefficients
         self._derivatives = {0: coefficients}
         self._info = info
-        self._start = None
-        if end is not None:
-            end.setflags(write=False)
-        self._end = end
+        for state in (start, end):
+            if state is not None:
+                state.setflags(write=False)
+        self._start, self._end = start, end
         return self
 
     def _boundary(self, name: str, value: ArrayLike | None, *, at_end: bool) -> FloatArray | None:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -234,8 +235,10 @@ def topp(
             "path_error": stray}  # fmt: skip
     if extra:
         info["constraint_checks"] = [limit.check(result) for limit in extra]
-    return Trajectory(result.breakpoints, result.coefficients, info=info,
-                      **rest_states(polynomial, points, speeds))  # fmt: skip
+    # The pieces were built from the path at its ends: their ends are the states.
+    ends = rest_states(polynomial, points, speeds)
+    return Trajectory._trusted(np.array(result.breakpoints), np.array(result.coefficients),
+                               MappingProxyType(info), ends["end"], ends["start"])  # fmt: skip
 
 
 def optimal_x(

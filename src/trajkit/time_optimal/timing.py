@@ -8,7 +8,9 @@ ordinary :class:`~trajkit.Trajectory` whose limits are checked exactly.
 
 from __future__ import annotations
 
-from typing import Protocol
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -28,6 +30,7 @@ __all__ = [
     "timed",
 ]
 
+_NO_INFO: Mapping[str, Any] = MappingProxyType({})
 #: Per interval and joint, shape (N, ndof): the least and the greatest joint velocity,
 #: then the least and the greatest acceleration.
 _Extremes = tuple[tuple[FloatArray, FloatArray], tuple[FloatArray, FloatArray]]
@@ -171,8 +174,10 @@ def compose(path: Trajectory, times: FloatArray, sigma: FloatArray, piece: np.nd
         for shift in range(order + 1):  # power * sigma, for every piece at once
             grown[:, shift : shift + power.shape[1]] += power * sigma[:, shift : shift + 1]
         power = grown
-    coefficients = result[:, ::-1, :].transpose(1, 0, 2)  # highest power first, (K + 1, M, ndof)
-    return Trajectory(times, np.ascontiguousarray(coefficients))
+    coefficients = np.ascontiguousarray(result[:, ::-1, :].transpose(1, 0, 2))  # (K + 1, M, ndof)
+    if np.all(np.isfinite(coefficients)) and np.all(np.diff(times) > 0.0):
+        return Trajectory._trusted(np.array(times, dtype=float), coefficients, _NO_INFO)
+    return Trajectory(times, coefficients)  # refuses it, saying what overflowed
 
 
 def rest_states(
