@@ -128,3 +128,15 @@ def test_gravity_beyond_the_torque_limit_is_a_one_line_error(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "N·m to hold the arm at s=" in err[0]
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_the_report_names_torque_and_tool_limits_in_their_units():
+    from trajkit.scenario.execute import _limits_text
+
+    text = WAYPOINTS.replace("torque = true", "torque = [150, 150, 150, 28, 28, 28]\n"
+                             "tool_speed = 0.25")  # fmt: skip
+    assert _limits_text(scenario.parse(text)) == (
+        "velocity 180 deg/s; acceleration 3000 deg/s²; torque 150, 150, 150, 28, 28, 28 N·m; "
+        "tool speed 0.25 m/s"
+    )
+    assert "torque the robot's own" in _limits_text(scenario.parse(WAYPOINTS))

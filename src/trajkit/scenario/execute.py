@@ -461,10 +461,21 @@ _LIMIT_WORDS = {"vmax": ("velocity", "/s"), "amax": ("acceleration", "/s²"),
                 "angular_jmax": ("angular jerk", "/s³")}  # fmt: skip
 
 
+#: The same for a time-optimal timing's torque and tool limits.
+_PATH_LIMIT_WORDS = {"torque": ("torque", "N·m"), "tool_speed": ("tool speed", "m/s"),
+                     "tool_acceleration": ("tool acceleration", "m/s²")}  # fmt: skip
+
+
 def _limits_text(scenario: Scenario) -> str:
     """The scenario's limits in words, angles in degrees: "velocity 9, 11 deg/s"."""
     parts = []
     for key, value in scenario.limits.items():
+        if key in _PATH_LIMIT_WORDS:  # not angles: N·m, m/s, m/s²
+            shown = "the robot's own" if value is True else ", ".join(
+                f"{v:.4g}" for v in np.atleast_1d(value))  # fmt: skip
+            words, unit = _PATH_LIMIT_WORDS[key]
+            parts.append(f"{words} {shown}" + ("" if value is True else f" {unit}"))
+            continue
         values = np.atleast_1d(value)
         angular = not scenario.mobile or key in MOBILE_ANGULAR
         words, unit = _LIMIT_WORDS[key]

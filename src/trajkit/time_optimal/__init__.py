@@ -211,11 +211,11 @@ def topp(
         from trajkit.time_optimal.jerk import smoothed
 
         return smoothed(polynomial, points, limits, stray, speeds)
-    # Limits near the float64 range overflow in the solve; the result is checked below.
-    if extra:
-        rests = [0] * (speeds[0] == 0.0) + [points.size - 1] * (speeds[1] == 0.0)
-        rests = np.union1d(rests, np.searchsorted(points, jumps(polynomial, 1))).astype(int)
+    if extra:  # where gravity alone passes a torque limit, no timing is found: say so
+        ends = [i for i, speed in zip((0, points.size - 1), speeds, strict=True) if speed == 0]
+        rests = np.union1d(ends, np.searchsorted(points, jumps(polynomial, 1))).astype(int)
         refuse_unheld(extra, polynomial.evaluate(points), points, points[rests])
+    # Limits near the float64 range overflow in the solve; the result is checked below.
     with np.errstate(over="ignore", invalid="ignore"):
         x, rounds, slow = optimal_x(polynomial, points, velocity, acceleration, speeds,
                                     constraints=extra)  # fmt: skip
@@ -284,12 +284,7 @@ def optimal_x(
     channels = path_channels(path, s, velocity, acceleration)
     corners = np.union1d(channels.corners, np.asarray(stops, dtype=int))
     channels = dataclasses.replace(channels, corners=corners)
-    # Per constraint: each interval's lower and upper bound as tightened, and how
-    # many rounds each side has passed.
-    bands = [[np.tile(side, (s.size - 1, 1)) for side in limit.bounds()] * 2
-             for limit in constraints]  # fmt: skip
-    for band in bands:
-        band[2], band[3] = np.zeros(band[2].shape), np.zeros(band[3].shape)
+    bands = [_Band.of(limit, s.size - 1) for limit in constraints]
     states = _collocated(path, s) if constraints else None
     stages = Stages(channels, _rows(constraints, bands, states, s))
     n = s.size
@@ -346,9 +341,25 @@ def _collocated(path: Trajectory, s: FloatArray) -> tuple[FloatArray, ...]:
     return (sigma.ravel(), *(path.evaluate(flat, order) for order in range(3)))
 
 
+@dataclasses.dataclass
+class _Band:
+    """A constraint's bounds per interval as tightened, and how often each side was passed."""
+
+    lower: FloatArray
+    upper: FloatArray
+    passed_lower: FloatArray
+    passed_upper: FloatArray
+    rounds: int = 0  # rounds in which some interval passed
+
+    @classmethod
+    def of(cls, limit: PathLimit, intervals: int) -> _Band:
+        lower, upper = (np.tile(side, (intervals, 1)) for side in limit.bounds())
+        return cls(lower, upper, np.zeros(lower.shape), np.zeros(upper.shape))
+
+
 def _rows(
     constraints: tuple[PathLimit, ...],
-    bands: list[list[FloatArray]],
+    bands: list[_Band],
     states: tuple[FloatArray, ...] | None,
     s: FloatArray,
 ) -> Rows | None:
@@ -358,8 +369,8 @@ def _rows(
     sigma, q, dq, ddq = states
     count = s.size - 1
     columns: list[list[FloatArray]] = [[], [], [], []]
-    for limit, (lower, upper, _, _) in zip(constraints, bands, strict=True):
-        per_point = [np.repeat(side, len(COLLOCATION), axis=0) for side in (lower, upper)]
+    for limit, band in zip(constraints, bands, strict=True):
+        per_point = [np.repeat(side, len(COLLOCATION), axis=0) for side in (band.lower, band.upper)]
         a, b, c, low, high = limit.rows(q, dq, ddq, *per_point)
         for column, value in zip(columns, (a + 2.0 * sigma[:, None] * b, b, low - c, high - c),
                                  strict=True):  # fmt: skip
@@ -370,17 +381,20 @@ def _rows(
 
 def _tighten(
     constraints: tuple[PathLimit, ...],
-    bands: list[list[FloatArray]],
+    bands: list[_Band],
     timing: Trajectory,
 ) -> bool:
     """Move each interval's bands in by what its timed piece passed them; True if any did.
 
     The bound of an interval also rests on its neighbours' timing, so moving it by
     the excess alone may halve the excess only; a side that passes again moves by
-    twice as much each time.
+    twice as much each time. Along a stretch at the bound the excess may also move
+    on to the next interval each round: from the second round on, every interval's
+    side moves in by the largest excess of that component too (a few 1e-6 of the
+    bound, by then).
     """
     passed = False
-    for limit, (lower, upper, hits_lo, hits_hi) in zip(constraints, bands, strict=True):
+    for limit, band in zip(constraints, bands, strict=True):
         high, low, _, _ = measure(limit, timing, SAMPLES)
         bound_lo, bound_hi = limit.bounds()
         size = np.maximum(np.abs(np.where(np.isfinite(bound_lo), bound_lo, 0.0)),
@@ -394,10 +408,14 @@ def _tighten(
             # In by the excess and a little more (_INSIDE of the bound), so that the
             # neighbours' re-timing rarely needs another round.
             inside = slack + _INSIDE * size
-            upper -= np.where(hit_hi, (over_hi + inside) * 2.0**hits_hi, 0.0)
-            lower += np.where(hit_lo, (over_lo + inside) * 2.0**hits_lo, 0.0)
-            hits_hi += hit_hi
-            hits_lo += hit_lo
+            band.upper -= np.where(hit_hi, (over_hi + inside) * 2.0**band.passed_upper, 0.0)
+            band.lower += np.where(hit_lo, (over_lo + inside) * 2.0**band.passed_lower, 0.0)
+            if band.rounds:
+                band.upper -= np.where(hit_hi.any(axis=0), np.maximum(over_hi, 0).max(axis=0), 0)
+                band.lower += np.where(hit_lo.any(axis=0), np.maximum(over_lo, 0).max(axis=0), 0)
+            band.passed_upper += hit_hi
+            band.passed_lower += hit_lo
+            band.rounds += 1
     return passed
 
 

@@ -45,7 +45,7 @@ from trajkit import _poly
 from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
 from trajkit.limits import Limits
-from trajkit.time_optimal.timing import compose, pieces_of, rest_states
+from trajkit.time_optimal.timing import compose, phases, pieces_of, rest_states
 from trajkit.tolerances import ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
 
@@ -92,17 +92,10 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
         return _moving_ends(path, s, (velocity, acceleration, jerk), rests, stray, speeds)
     stops = np.searchsorted(s, rests)
     x, rounds, _ = optimal_x(path, s, velocity, acceleration, stops=stops)
-    speed = np.sqrt(x)
-    total = speed[:-1] + speed[1:]
-    if np.any(total <= 0.0):
-        raise InfeasibleError("the path speed vanishes on a whole interval: the path is not "
-                              "traversable within the limits")  # fmt: skip
-    durations = 2.0 * np.diff(s) / total
-    u = (x[1:] - x[:-1]) / (2.0 * np.diff(s))
+    speed, durations, u = phases(s, x)
     # One rest-to-rest segment between consecutive stops.
     edges = np.union1d([0, s.size - 1], stops)
-    typical = float(np.median(np.minimum(-acceleration[0], acceleration[1])
-                              / np.minimum(-jerk[0], jerk[1])))  # fmt: skip
+    typical = _typical_window(acceleration, jerk)
     checked = Limits(velocity=velocity, acceleration=acceleration, jerk=jerk)
     pieces: list[Trajectory] = []
     windows = []
@@ -140,8 +133,7 @@ def _moving_ends(
     """The jerk-limited timing with a non-zero start or end speed (module notes)."""
     velocity, acceleration, jerk = bounds
     checked = Limits(velocity=velocity, acceleration=acceleration, jerk=jerk)
-    typical = float(np.median(np.minimum(-acceleration[0], acceleration[1])
-                              / np.minimum(-jerk[0], jerk[1])))  # fmt: skip
+    typical = _typical_window(acceleration, jerk)
     scale, failure = 1.0, ""
     for _ in range(_ROUNDS):
         best, need = None, np.inf
@@ -210,13 +202,7 @@ def _held_ends(
             raise InfeasibleError(f"the end speed {speed:g} cannot be held for the jerk "
                                   "limit's smoothing window within the limits")  # fmt: skip
         x[held] = speed**2  # held: s̈ = 0 there, exactly
-    speed = np.sqrt(x)
-    total = speed[:-1] + speed[1:]
-    if np.any(total <= 0.0):
-        raise InfeasibleError("the path speed vanishes on a whole interval: the path is not "
-                              "traversable within the limits")  # fmt: skip
-    durations = 2.0 * np.diff(grid) / total
-    u = (x[1:] - x[:-1]) / (2.0 * np.diff(grid))
+    speed, durations, u = phases(grid, x)
     edges = np.union1d([0, grid.size - 1], stops).tolist()
     pieces = []
     for k, (first, last) in enumerate(itertools.pairwise(edges)):
@@ -228,6 +214,13 @@ def _held_ends(
     for piece in pieces[1:]:
         result = result.then(piece)
     return result, grid
+
+
+def _typical_window(acceleration: tuple[FloatArray, FloatArray],
+                    jerk: tuple[FloatArray, FloatArray]) -> float:  # fmt: skip
+    """The median ``a_max / j_max`` over the joints (s): the scale of the windows tried."""
+    return float(np.median(np.minimum(-acceleration[0], acceleration[1])
+                           / np.minimum(-jerk[0], jerk[1])))  # fmt: skip
 
 
 def _scale_to(curve: Trajectory, limits: Limits) -> float:

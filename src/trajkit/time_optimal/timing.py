@@ -25,6 +25,7 @@ __all__ = [
     "as_polynomial",
     "compose",
     "interval_peaks",
+    "phases",
     "pieces_of",
     "rest_states",
     "timed",
@@ -124,16 +125,29 @@ def pieces_of(path: Trajectory, s: FloatArray) -> tuple[np.ndarray, FloatArray]:
     return piece, s[:-1] - path.breakpoints[piece]
 
 
-def timed(path: Trajectory, s: FloatArray, x: FloatArray) -> Trajectory:
-    """``q(s(t))`` as a Trajectory, one piece per grid interval, starting at t = 0."""
+def phases(s: FloatArray, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Path speed at the grid points, and each interval's duration and ``s̈``.
+
+    With ``x = ṡ²`` linear in ``s`` on an interval, ``s̈`` is constant there and the
+    interval takes ``2 Δs / (ṡ_i + ṡ_{i+1})``.
+
+    Raises
+    ------
+    InfeasibleError
+        The speed vanishes at both ends of an interval: it is never crossed.
+    """
     speed = np.sqrt(x)
     delta = np.diff(s)
     total = speed[:-1] + speed[1:]
     if np.any(total <= 0.0):
         raise InfeasibleError("the path speed vanishes on a whole interval: the path is not "
                               "traversable within the limits")  # fmt: skip
-    durations = 2.0 * delta / total
-    u = (x[1:] - x[:-1]) / (2.0 * delta)
+    return speed, 2.0 * delta / total, (x[1:] - x[:-1]) / (2.0 * delta)
+
+
+def timed(path: Trajectory, s: FloatArray, x: FloatArray) -> Trajectory:
+    """``q(s(t))`` as a Trajectory, one piece per grid interval, starting at t = 0."""
+    speed, durations, u = phases(s, x)
     piece, offset = pieces_of(path, s)
     # s(tau) - s_piece = offset + speed tau + u tau^2 / 2, in ascending powers of tau.
     sigma = np.stack([offset, speed[:-1], u / 2.0], axis=1)
