@@ -298,7 +298,7 @@ def optimal_x(
         x = stages.solve(x_start, x_end, velocity_factor, acceleration_scale)
         ratio_v, ratio_a = interval_peaks(path, s, x, velocity, acceleration)
         over_v, over_a = ratio_v > 1.0 + LIMIT_RTOL, ratio_a > 1.0 + LIMIT_RTOL
-        passed = _tighten(constraints, bands, timed(path, s, x)) if constraints else None
+        passed = _tighten(constraints, bands, _timed_within(path, s, x)) if constraints else None
         if not (over_v.any() or over_a.any() or passed):
             return x, rounds, 1.0
         if passed:
@@ -330,6 +330,18 @@ def optimal_x(
     return x, _ROUNDS, float(max(ratio_v.max(), np.sqrt(ratio_a.max()), 1.0) * (1 + ROUNDING_RTOL))
 
 
+def _timed_within(path: Trajectory, s: FloatArray, x: FloatArray) -> Trajectory:
+    """The timed path, or a refusal that says tightened torque or tool limits stopped it."""
+    try:
+        return timed(path, s, x)
+    except InfeasibleError:
+        raise InfeasibleError(
+            "the torque and tool limits, kept between grid points, leave no speed on a "
+            "whole interval of this grid: use a finer grid (they are kept at the ends and "
+            "middle of each interval) or looser limits"
+        ) from None
+
+
 def _collocated(path: Trajectory, s: FloatArray) -> tuple[FloatArray, ...]:
     """``σ`` and ``q, q', q''`` at the collocation points of every interval, (N * F, ...)."""
     fractions = np.asarray(COLLOCATION)
@@ -343,18 +355,16 @@ def _collocated(path: Trajectory, s: FloatArray) -> tuple[FloatArray, ...]:
 
 @dataclasses.dataclass
 class _Band:
-    """A constraint's bounds per interval as tightened, and how often each side was passed."""
+    """A constraint's bounds per interval, as tightened round by round."""
 
     lower: FloatArray
     upper: FloatArray
-    passed_lower: FloatArray
-    passed_upper: FloatArray
     rounds: int = 0  # rounds in which some interval passed
 
     @classmethod
     def of(cls, limit: PathLimit, intervals: int) -> _Band:
         lower, upper = (np.tile(side, (intervals, 1)) for side in limit.bounds())
-        return cls(lower, upper, np.zeros(lower.shape), np.zeros(upper.shape))
+        return cls(lower, upper)
 
 
 def _rows(
@@ -386,12 +396,10 @@ def _tighten(
 ) -> bool:
     """Move each interval's bands in by what its timed piece passed them; True if any did.
 
-    The bound of an interval also rests on its neighbours' timing, so moving it by
-    the excess alone may halve the excess only; a side that passes again moves by
-    twice as much each time. Along a stretch at the bound the excess may also move
-    on to the next interval each round: from the second round on, every interval's
-    side moves in by the largest excess of that component too (a few 1e-6 of the
-    bound, by then).
+    The bound of an interval also rests on its neighbours' timing, and along a
+    stretch at the bound an excess may move on to the next interval each round: from
+    the second round on, every interval's side also moves in by the largest excess
+    of that component (a few 1e-6 of the bound, by then).
     """
     passed = False
     for limit, band in zip(constraints, bands, strict=True):
@@ -408,13 +416,11 @@ def _tighten(
             # In by the excess and a little more (_INSIDE of the bound), so that the
             # neighbours' re-timing rarely needs another round.
             inside = slack + _INSIDE * size
-            band.upper -= np.where(hit_hi, (over_hi + inside) * 2.0**band.passed_upper, 0.0)
-            band.lower += np.where(hit_lo, (over_lo + inside) * 2.0**band.passed_lower, 0.0)
+            band.upper -= np.where(hit_hi, over_hi + inside, 0.0)
+            band.lower += np.where(hit_lo, over_lo + inside, 0.0)
             if band.rounds:
                 band.upper -= np.where(hit_hi.any(axis=0), np.maximum(over_hi, 0).max(axis=0), 0)
                 band.lower += np.where(hit_lo.any(axis=0), np.maximum(over_lo, 0).max(axis=0), 0)
-            band.passed_upper += hit_hi
-            band.passed_lower += hit_lo
             band.rounds += 1
     return passed
 

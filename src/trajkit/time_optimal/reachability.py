@@ -36,6 +36,8 @@ __all__ = ["Channels", "Rows", "Stages"]
 
 #: A channel whose path derivative is below this (relative) does not bound ``u``.
 _FLAT = 1e-12
+#: A further row whose u term is below this (relative) bounds x alone.
+_FLAT_ROW = 1e-9
 
 
 @dataclass(frozen=True)
@@ -147,9 +149,12 @@ class Stages:
         threshold = np.full(slope_u.shape, _FLAT * scale)
         self._scaled = np.ones(slope_u.shape[1], dtype=bool)
         if extra is not None and extra.on_u.shape[1]:
-            # Each further row is flat (bounds x alone) where its u term is negligible
-            # beside that row's largest along the path.
-            own = _FLAT * np.abs(extra.on_u).max(axis=0, keepdims=True)
+            # A further row is flat (bounds x alone) where its u term is negligible
+            # beside its x term (u and x compare as x ~ 2Δu) or beside that row's
+            # largest along the path. A row that is flat by construction (a direction
+            # across the tool's path, say) then never has rounding for a u term.
+            own = _FLAT_ROW * np.maximum(np.abs(extra.on_u).max(axis=0, keepdims=True),
+                                         np.abs(extra.on_x) * delta[:, None])  # fmt: skip
             theirs = np.broadcast_to(own, extra.on_u.shape)
             pairs = ((slope_u, extra.on_u), (curve_x, extra.on_x), (low_b, extra.lower),
                      (high_b, extra.upper), (threshold, theirs))  # fmt: skip
@@ -178,13 +183,20 @@ class Stages:
             k = np.flatnonzero(doubt)
             stage_cap[k] = np.minimum(start[k], _maximum_velocity_curve(*(r[k] for r in rows)))
         self._rows = rows
-        self.acceleration_cap = np.append(stage_cap, at_points[-1])
-        self._exact = np.zeros(delta.size + 1, dtype=bool)
-        self.velocity_cap = self._rates_inside(ascending, at_point, vel_lo, vel_hi)
         twice = 2.0 * delta[:, None]
         # Forward: x_{i+1} = x_i + 2Δu <= (1 + 2Δr) x_i + 2Δ p_hi for every row.
         self._grow = 1.0 + twice * rate
         self._push = np.where(valid & np.isfinite(high), twice * high, np.inf)
+        # A row whose line falls with x_i (1 + 2Δr < 0) leaves x_{i+1} >= 0 only up to
+        # where it crosses 0: a cap on the stage's x_i, as its acceleration cap. (An
+        # end-of-interval row that bounds the tool's acceleration, say, is such a row.)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            falling = valid & (self._grow < 0.0) & np.isfinite(self._push)
+            crossing = np.where(falling, self._push / -np.where(falling, self._grow, -1.0), np.inf)
+        stage_cap = np.minimum(stage_cap, np.maximum(crossing, 0.0).min(axis=1))
+        self.acceleration_cap = np.append(stage_cap, at_points[-1])
+        self._exact = np.zeros(delta.size + 1, dtype=bool)
+        self.velocity_cap = self._rates_inside(ascending, at_point, vel_lo, vel_hi)
         # Backward: x_i <= (x_{i+1} - 2Δ p_lo) / (1 + 2Δr) where 1 + 2Δr > 0; where
         # it is not, the lower bound only asks x_i >= a negative number.
         usable = valid & (self._grow > 0.0) & np.isfinite(low)
@@ -342,21 +354,20 @@ def _maximum_velocity_curve(
     acc_hi: FloatArray,
     threshold: FloatArray,
 ) -> FloatArray:
-    """The largest x at each grid point with ``max_j L_j(x) <= min_k U_k(x)``."""
-    # A still channel (c' = 0) bounds x itself: a_lo <= c'' x <= a_hi.
-    still = ~(np.abs(d1) > threshold)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        bend = np.where(d2 > 0, acc_hi / d2, np.where(d2 < 0, acc_lo / d2, np.inf))
-    cap = np.min(np.where(still & ~np.isnan(bend), bend, np.inf), axis=1)
-    hi_m = np.where(valid, hi, np.inf)
-    lo_m = np.where(valid, lo, -np.inf)
-    slope = r[:, :, None] - r[:, None, :]  # L_j rises faster than U_k
-    with np.errstate(divide="ignore", invalid="ignore"):
-        room = hi_m[:, None, :] - lo_m[:, :, None]
-        crossing = np.where(slope > 0, room / np.where(slope > 0, slope, 1.0),
-                            np.where(room < 0, 0.0, np.inf))  # fmt: skip
-    crossing = np.where(np.isnan(crossing), np.inf, crossing)
-    return np.maximum(np.minimum(cap, crossing.min(axis=(1, 2))), 0.0)
+    """The largest x at each grid point with ``max_j L_j(x) <= min_k U_k(x)``.
+
+    ``L_j = lo_j + r_j x`` and ``U_k = hi_k + r_k x`` are the rows' bounds on u (of
+    the valid rows); a row whose u term is below ``threshold`` (a still channel)
+    bounds x itself, ``acc_lo <= d2 x <= acc_hi``. Every pair of rows, compiled.
+    """
+    from trajkit.time_optimal import _passes
+
+    shape = np.shape(r)
+    arrays = (np.ascontiguousarray(np.broadcast_to(value, shape), dtype=dtype)
+              for value, dtype in ((valid, np.bool_), (r, float), (hi, float), (lo, float),
+                                   (d1, float), (d2, float), (acc_lo, float), (acc_hi, float),
+                                   (threshold, float)))  # fmt: skip
+    return _passes.maximum_velocity_curve(*arrays)
 
 
 def _feasible_below(
@@ -368,35 +379,16 @@ def _feasible_below(
     x where it is negative, the root of its active piece is still at or beyond the
     largest root (a concave function lies below its pieces' lines), so a few such
     Newton steps from the right land on it exactly. Returns the caps and the stages
-    where rounding or the step count left that in doubt.
+    where rounding or the step count left that in doubt. Compiled, one stage at a time.
     """
-    doubt = np.zeros(cap.size, dtype=bool)
-    upper = np.where(valid, high, np.inf)
-    lower = np.where(valid, low, -np.inf)
-    slopes = np.where(valid, rate, 0.0)
-    x = cap.copy()
-    todo = np.flatnonzero(np.isfinite(x))
-    for _ in range(8):
-        if todo.size == 0:
-            break
-        rows = np.arange(todo.size)
-        here, grow = x[todo][:, None], slopes[todo]
-        with np.errstate(invalid="ignore"):
-            u_hi, u_lo = upper[todo] + grow * here, lower[todo] + grow * here
-        k, j = np.argmin(u_hi, axis=1), np.argmax(u_lo, axis=1)
-        room = u_hi[rows, k] - u_lo[rows, j]
-        short = room < -ROUNDING_RTOL * np.maximum(np.abs(u_hi[rows, k]), 1e-300)
-        fall = grow[rows, j] - grow[rows, k]  # how fast the room shrinks with x
-        with np.errstate(divide="ignore", invalid="ignore"):
-            root = np.where(fall > 0, x[todo] + room / np.where(fall > 0, fall, 1.0), 0.0)
-        # room < 0 cannot grow toward x = 0; a step to a millionth of x has lost the
-        # root's digits in the subtraction.
-        sound = (fall > 0) & (root > 1e-6 * x[todo])
-        doubt[todo[short & ~sound]] = True
-        x[todo[short]] = np.maximum(root[short], 0.0)
-        todo = todo[short & sound]
-    doubt[todo] = True
-    return np.maximum(x, 0.0), doubt
+    from trajkit.time_optimal import _passes
+
+    contiguous = np.ascontiguousarray
+    return _passes.feasible_below(
+        contiguous(cap, dtype=float), contiguous(valid, dtype=np.bool_),
+        contiguous(rate, dtype=float), contiguous(high, dtype=float),
+        contiguous(low, dtype=float), ROUNDING_RTOL,
+    )  # fmt: skip
 
 
 def recurrence(a: FloatArray, b: FloatArray, high: FloatArray, y0: float) -> FloatArray:

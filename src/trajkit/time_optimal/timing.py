@@ -174,21 +174,10 @@ def compose(path: Trajectory, times: FloatArray, sigma: FloatArray, piece: np.nd
     Trajectory
         The composed pieces, of degree ``k d`` for a path of degree ``k``.
     """
-    local = path.coefficients[:, piece, :]  # (k + 1, M, ndof)
-    degree = local.shape[0] - 1
-    order = sigma.shape[1] - 1
-    count = local.shape[1]
-    result = np.zeros((count, degree * order + 1, path.ndof))
-    power = np.ones((count, 1))
-    for m in range(degree + 1):  # q = sum_m a_m sigma^m: degree + 1 terms, all pieces at once
-        result[:, : power.shape[1], :] += power[:, :, None] * local[degree - m][:, None, :]
-        if m == degree:
-            break
-        grown = np.zeros((count, power.shape[1] + order))
-        for shift in range(order + 1):  # power * sigma, for every piece at once
-            grown[:, shift : shift + power.shape[1]] += power * sigma[:, shift : shift + 1]
-        power = grown
-    coefficients = np.ascontiguousarray(result[:, ::-1, :].transpose(1, 0, 2))  # (K + 1, M, ndof)
+    from trajkit.time_optimal import _passes
+
+    local = np.ascontiguousarray(path.coefficients[:, piece, :], dtype=float)  # (k + 1, M, ndof)
+    coefficients = _passes.compose(local, np.ascontiguousarray(sigma, dtype=float))
     if np.all(np.isfinite(coefficients)) and np.all(np.diff(times) > 0.0):
         return Trajectory._trusted(np.array(times, dtype=float), coefficients, _NO_INFO)
     return Trajectory(times, coefficients)  # refuses it, saying what overflowed
@@ -268,35 +257,12 @@ def _cubic_extremes(path: Trajectory, s: FloatArray, x: FloatArray) -> _Extremes
     in ``σ = s - s_i`` (extremes at the ends and the vertex), and ``q̇ = q' ṡ`` peaks
     at the ends or where ``q̈`` vanishes.
     """
-    delta = np.diff(s)
-    u = (x[1:] - x[:-1]) / (2.0 * delta)
+    from trajkit.time_optimal import _passes
+
     piece, w0 = pieces_of(path, s)
     c = np.zeros((4, piece.size, path.ndof))
     c[4 - path.coefficients.shape[0] :] = path.coefficients[:, piece, :]
-    a3, a2, a1 = c[0], c[1], c[2]  # q = a3 w^3 + a2 w^2 + a1 w + a0 in the piece's variable w
-    w0 = w0[:, None]
-    # In sigma: q' = d0 + d1 sigma + d2 sigma^2, q'' = d1 + 2 d2 sigma.
-    d0 = 3 * a3 * w0**2 + 2 * a2 * w0 + a1
-    d1 = 6 * a3 * w0 + 2 * a2
-    d2 = 3 * a3
-    xi, ui = x[:-1, None], u[:, None]
-    # q̈(sigma) = (d1 + 2 d2 sigma)(xi + 2 ui sigma) + (d0 + d1 sigma + d2 sigma^2) ui
-    #          = A sigma^2 + B sigma + C
-    big_a = 5 * d2 * ui
-    big_b = 3 * d1 * ui + 2 * d2 * xi
-    big_c = d1 * xi + d0 * ui
-    width = np.broadcast_to(delta[:, None], big_a.shape)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        vertex = np.where(big_a != 0, -big_b / (2 * big_a), 0.0)
-        root = np.sqrt(np.maximum(big_b**2 - 4 * big_a * big_c, 0.0))
-        flat = np.abs(big_a) <= 1e-300
-        root1 = np.where(
-            flat, np.where(big_b != 0, -big_c / big_b, 0.0), (-big_b + root) / (2 * big_a)
-        )
-        root2 = np.where(flat, 0.0, (-big_b - root) / (2 * big_a))
-    zero = np.zeros_like(width)
-    accel = np.stack([big_a * t**2 + big_b * t + big_c
-                      for t in (zero, width, np.clip(vertex, 0, width))])  # fmt: skip
-    where = np.stack([np.clip(root1, 0, width), np.clip(root2, 0, width), zero, width])
-    speed = (d0 + d1 * where + d2 * where**2) * np.sqrt(np.maximum(xi + 2 * ui * where, 0.0))
-    return (speed.min(axis=0), speed.max(axis=0)), (accel.min(axis=0), accel.max(axis=0))
+    v_low, v_high, a_low, a_high = _passes.cubic_extremes(
+        c[0], c[1], c[2], np.ascontiguousarray(w0, dtype=float),
+        np.ascontiguousarray(x, dtype=float), np.diff(s))  # fmt: skip
+    return (v_low, v_high), (a_low, a_high)
