@@ -31,36 +31,11 @@ def recurrence(a, b, high, y0):  # pragma: no cover - compiled; tested through r
 @njit(cache=True)
 def maximum_velocity_curve(valid, r, hi, lo, d1, d2, acc_lo, acc_hi, threshold):  # pragma: no cover
     """The largest x at each point with ``max_j L_j(x) <= min_k U_k(x)``; all (n, m)."""
-    n, m = r.shape
+    n = r.shape[0]
     out = np.empty(n)
     for i in range(n):
-        cap = np.inf
-        for j in range(m):
-            # A still channel (c' = 0) bounds x itself: a_lo <= c'' x <= a_hi.
-            if not abs(d1[i, j]) > threshold[i, j]:
-                curve = d2[i, j]
-                bend = np.inf
-                if curve > 0.0:
-                    bend = acc_hi[i, j] / curve
-                elif curve < 0.0:
-                    bend = acc_lo[i, j] / curve
-                if bend < cap:
-                    cap = bend
-        for j in range(m):  # L_j rising faster than U_k meets it at room / slope
-            low = lo[i, j] if valid[i, j] else -np.inf
-            for k in range(m):
-                slope = r[i, j] - r[i, k]
-                high = hi[i, k] if valid[i, k] else np.inf
-                room = high - low
-                if slope > 0.0:
-                    crossing = room / slope
-                elif room < 0.0:
-                    crossing = 0.0
-                else:
-                    crossing = np.inf
-                if crossing < cap:
-                    cap = crossing
-        out[i] = cap if cap > 0.0 else 0.0
+        out[i] = _one_curve(valid[i], r[i], hi[i], lo[i], d1[i], d2[i], acc_lo[i], acc_hi[i],
+                            threshold[i])  # fmt: skip
     return out
 
 
@@ -215,3 +190,185 @@ def compose(local, sigma):  # pragma: no cover
             length += order
             power[:length] = grown[:length]
     return out
+
+
+@njit(cache=True)
+def _rate_cap(slope, lower, upper, threshold):  # pragma: no cover
+    """The largest x with every ``slope_j ṡ`` within its side's bound, at one point."""
+    cap = np.inf
+    for j in range(slope.size):
+        if abs(slope[j]) > threshold:
+            side = upper[j] if slope[j] > 0.0 else -lower[j]
+            value = (side / abs(slope[j])) ** 2
+            if value < cap:
+                cap = value
+    return cap
+
+
+@njit(cache=True)
+def _point_curve(first, second, acc_lo, acc_hi, threshold):  # pragma: no cover
+    """The maximum velocity curve of the acceleration rows at one point alone."""
+    m = first.size
+    valid = np.empty(m, dtype=np.bool_)
+    rate, high, low = np.empty(m), np.empty(m), np.empty(m)
+    for j in range(m):
+        valid[j] = abs(first[j]) > threshold
+        if valid[j]:
+            rate[j] = -second[j] / first[j]
+            top, bottom = (acc_hi[j], acc_lo[j]) if first[j] > 0.0 else (acc_lo[j], acc_hi[j])
+            high[j], low[j] = top / first[j], bottom / first[j]
+        else:
+            rate[j], high[j], low[j] = 0.0, np.inf, -np.inf
+    return _one_curve(valid, rate, high, low, first, second, acc_lo, acc_hi,
+                      np.full(m, threshold))  # fmt: skip
+
+
+@njit(cache=True)
+def _one_curve(valid, r, hi, lo, d1, d2, acc_lo, acc_hi, threshold):  # pragma: no cover
+    """The largest x with ``max_j L_j(x) <= min_k U_k(x)`` for one set of rows."""
+    m = r.size
+    cap = np.inf
+    for j in range(m):
+        if not abs(d1[j]) > threshold[j]:
+            bend = np.inf
+            if d2[j] > 0.0:
+                bend = acc_hi[j] / d2[j]
+            elif d2[j] < 0.0:
+                bend = acc_lo[j] / d2[j]
+            if bend < cap:
+                cap = bend
+    for j in range(m):
+        low = lo[j] if valid[j] else -np.inf
+        for k in range(m):
+            slope = r[j] - r[k]
+            room = (hi[k] if valid[k] else np.inf) - low
+            if slope > 0.0:
+                crossing = room / slope
+            elif room < 0.0:
+                crossing = 0.0
+            else:
+                crossing = np.inf
+            if crossing < cap:
+                cap = crossing
+    return cap if cap > 0.0 else 0.0
+
+
+@njit(cache=True)
+def channel_rows(ascending, rate_of, hull, vel_lo, vel_hi, acc_lo, acc_hi,
+                 threshold):  # pragma: no cover  # fmt: skip
+    """The channels' rows of every stage and the caps at every grid point.
+
+    ``ascending`` (K + 1, N, m) is each channel's ``c'`` on each interval in ascending
+    powers of ``τ = σ / Δ``, ``rate_of`` its ``c''``; ``hull`` the Bernstein matrix.
+    Returns the rows' u and x terms (N, (K + 1) m), row ``c m + j`` for coefficient
+    ``c`` of channel ``j``; the velocity cap at each point (from both sides, as the
+    tangent may jump) and the maximum velocity curve of the rows at each point alone.
+    """
+    size, n, m = ascending.shape
+    on_u, on_x = np.empty((n, size * m)), np.empty((n, size * m))
+    at_point, at_points = np.empty(n + 1), np.empty(n + 1)
+    first, second, left = np.empty(m), np.empty(m), np.empty(m)
+    for i in range(n + 1):
+        for j in range(m):
+            if i < n:  # from the right
+                first[j], second[j] = ascending[0, i, j], rate_of[0, i, j]
+            else:  # the last point, from the left
+                first[j], second[j] = 0.0, 0.0
+                for c in range(size):
+                    first[j] += ascending[c, n - 1, j]
+                    second[j] += rate_of[c, n - 1, j]
+            if i == 0:
+                left[j] = ascending[0, 0, j]
+            else:
+                left[j] = 0.0
+                for c in range(size):
+                    left[j] += ascending[c, i - 1, j]
+        at_point[i] = min(_rate_cap(first, vel_lo, vel_hi, threshold),
+                          _rate_cap(left, vel_lo, vel_hi, threshold))  # fmt: skip
+        at_points[i] = _point_curve(first, second, acc_lo, acc_hi, threshold)
+    for i in range(n):
+        for c in range(size):
+            for j in range(m):
+                u_term, x_term = 0.0, 0.0
+                for k in range(size):
+                    u_term += hull[c, k] * ((1.0 + 2.0 * k) * ascending[k, i, j])
+                    x_term += hull[c, k] * rate_of[k, i, j]
+                on_u[i, c * m + j], on_x[i, c * m + j] = u_term, x_term
+    return on_u, on_x, at_point, at_points
+
+
+@njit(cache=True)
+def _smaller(a, b):  # pragma: no cover
+    """``np.minimum`` of two numbers: NaN if either is."""
+    if np.isnan(a) or np.isnan(b):
+        return np.nan
+    return a if a < b else b
+
+
+@njit(cache=True)
+def stage_setup(on_u, on_x, lower, upper, threshold, start, delta, rounding):  # pragma: no cover
+    """Every stage's rows as bounds on u, its maximum velocity curve, and both passes' terms.
+
+    Row ``lower <= on_u u + on_x x <= upper`` becomes ``lo + r x <= u <= hi + r x``
+    where its u term passes ``threshold`` (valid); otherwise it bounds x alone. The
+    stage's cap is the largest x at most ``start`` where some u keeps every row
+    (Newton steps from above, all pairs of rows where they leave doubt), and where a
+    row falling with x (``1 + 2Δr < 0``) still lets ``x_{i+1} >= 0``. The forward
+    pass's lines are ``grow x + push``; the backward pass's ``shrink (y - pull)`` on
+    the usable rows (``grow > 0``, a finite lower bound).
+    """
+    n, rows = on_u.shape
+    valid = np.empty((n, rows), dtype=np.bool_)
+    rate, high, low = np.empty((n, rows)), np.empty((n, rows)), np.empty((n, rows))
+    grow, push = np.empty((n, rows)), np.empty((n, rows))
+    shrink, pull = np.zeros((n, rows)), np.zeros((n, rows))
+    usable = np.zeros((n, rows), dtype=np.bool_)
+    cap = start.copy()
+    for i in range(n):
+        flat = np.inf
+        for j in range(rows):
+            slope, curve = on_u[i, j], on_x[i, j]
+            valid[i, j] = abs(slope) > threshold[i, j]
+            if valid[i, j]:
+                top, bottom = upper[i, j], lower[i, j]
+                if slope < 0.0:
+                    top, bottom = bottom, top
+                high[i, j], low[i, j], rate[i, j] = top / slope, bottom / slope, -curve / slope
+            else:
+                high[i, j], low[i, j], rate[i, j] = np.inf, -np.inf, 0.0
+                # A flat row bounds x alone: x <= bound / on_x on the side on_x points to.
+                bound = np.inf
+                if curve > 0.0:
+                    bound = upper[i, j] / curve
+                elif curve < 0.0:
+                    bound = lower[i, j] / curve
+                if not np.isnan(bound):
+                    bound = bound if bound > 0.0 else 0.0
+                    if bound < flat:
+                        flat = bound
+        if flat < cap[i]:  # a NaN cap stays NaN, as numpy's minimum keeps it
+            cap[i] = flat
+        if not np.isfinite(cap[i]):
+            cap[i] = _one_curve(valid[i], rate[i], high[i], low[i], on_u[i], on_x[i], lower[i],
+                                upper[i], threshold[i])  # fmt: skip
+    newton, doubt = feasible_below(cap, valid, rate, high, low, rounding)
+    for i in range(n):
+        if doubt[i]:  # all pairs of rows, exactly
+            exact = _one_curve(valid[i], rate[i], high[i], low[i], on_u[i], on_x[i], lower[i],
+                               upper[i], threshold[i])  # fmt: skip
+            newton[i] = _smaller(cap[i], exact)
+        twice = 2.0 * delta[i]
+        for j in range(rows):
+            grow[i, j] = 1.0 + twice * rate[i, j]
+            push[i, j] = twice * high[i, j] if valid[i, j] and np.isfinite(high[i, j]) else np.inf
+            if valid[i, j] and grow[i, j] < 0.0 and np.isfinite(push[i, j]):
+                # Falling with x: x_{i+1} >= 0 only up to where the line crosses 0.
+                crossing = push[i, j] / -grow[i, j]
+                crossing = crossing if crossing > 0.0 else 0.0
+                if crossing < newton[i]:
+                    newton[i] = crossing
+            if valid[i, j] and grow[i, j] > 0.0 and np.isfinite(low[i, j]):
+                usable[i, j] = True
+                shrink[i, j] = 1.0 / grow[i, j]
+                pull[i, j] = twice * low[i, j]
+    return valid, rate, high, low, newton, grow, push, shrink, pull, usable

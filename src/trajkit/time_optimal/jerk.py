@@ -135,17 +135,17 @@ def _moving_ends(
     checked = Limits(velocity=velocity, acceleration=acceleration, jerk=jerk)
     typical = _typical_window(acceleration, jerk)
     scale, failure = 1.0, ""
-    for _ in range(_ROUNDS):
+    for rounds in range(1, _ROUNDS + 1):
         best, need = None, np.inf
         for factor in _WINDOWS:
             tightened = (tuple(side * scale for side in velocity),
                          tuple(side * scale**2 for side in acceleration))  # fmt: skip
             try:
                 curve, grid = _held_ends(path, s, tightened, rests, speeds, factor * typical)
+                ask = _scale_to(curve, checked)
             except InfeasibleError as exc:
                 failure = str(exc)
                 continue
-            ask = _scale_to(curve, checked)
             if ask <= 1.0 and (best is None or curve.duration < best[0].duration):
                 best = (curve, grid, factor * typical)
             need = min(need, ask)
@@ -153,7 +153,7 @@ def _moving_ends(
             curve, grid, window = best
             info = {"planner": "topp", "continuity": 2, "jerk_limited": True,
                     "grid_points": grid, "rests": rests, "windows": (window,),
-                    "rounds": _ + 1, "path_error": stray}  # fmt: skip
+                    "rounds": rounds, "path_error": stray}  # fmt: skip
             return Trajectory(curve.breakpoints, curve.coefficients, info=info,
                               **rest_states(path, s, speeds))  # fmt: skip
         if not np.isfinite(need):

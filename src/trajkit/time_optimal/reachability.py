@@ -111,6 +111,8 @@ class Stages:
     """
 
     def __init__(self, channels: Channels, extra: Rows | None = None) -> None:
+        from trajkit.time_optimal import _passes
+
         s, slope = channels.s, channels.slope
         vel_lo, vel_hi = channels.velocity
         acc_lo, acc_hi = channels.acceleration
@@ -124,28 +126,20 @@ class Stages:
         powers = np.arange(degree + 1)[:, None, None]
         rate_of = np.zeros_like(ascending)  # c''(σ) = (d/dτ c') / Δ
         rate_of[:-1] = powers[1:] * ascending[1:] / delta[None, :, None]
-        hull = _bernstein(degree)
-        at_end = ascending.sum(axis=0)  # c' at τ = 1, (N, m)
-        # Values at the grid points (from the right; the last from the left), for the
-        # maximum velocity curve; velocity caps from both sides, as the tangent may jump.
-        first = np.concatenate([ascending[0], at_end[-1:]], axis=0)
-        second = np.concatenate([rate_of[0], rate_of.sum(axis=0)[-1:]], axis=0)
-        scale = float(np.abs(first).max()) or 1.0
-        left = np.concatenate([ascending[0][:1], at_end], axis=0)
-        at_point = np.minimum(_rate_cap(first, vel_lo, vel_hi, scale),
-                              _rate_cap(left, vel_lo, vel_hi, scale))  # fmt: skip
-        # The maximum velocity curve of the rows at each point alone: an upper bound
-        # of each stage's, which Newton steps below bring down to it.
-        flat = np.asarray(_FLAT * scale)
-        near = _affine_rows(first, second, acc_lo, acc_hi, flat)
-        at_points = _maximum_velocity_curve(*near, first, second, acc_lo, acc_hi, flat)
-        # Acceleration rows: Bernstein coefficients of c'' (on x_i) and c' + 2σ c'' (on u).
-        on_u = np.einsum("cj,jnm->cnm", hull, (1.0 + 2.0 * powers) * ascending)
-        on_x = np.einsum("cj,jnm->cnm", hull, rate_of)
-        # Stages along axis 0, rows along axis 1.
-        slope_u, curve_x = (r.transpose(1, 0, 2).reshape(delta.size, -1) for r in (on_u, on_x))
-        low_b = np.broadcast_to(np.tile(acc_lo, on_u.shape[0]), slope_u.shape)
-        high_b = np.broadcast_to(np.tile(acc_hi, on_u.shape[0]), slope_u.shape)
+        # The path's derivative at the grid points, for the scale of "still".
+        scale = float(max(np.abs(ascending[0]).max(), np.abs(ascending[:, -1].sum(axis=0)).max()))
+        scale = scale or 1.0
+        # Acceleration rows: Bernstein coefficients of c'' (on x_i) and c' + 2σ c'' (on u),
+        # stages along axis 0; the velocity cap at each point (from both sides, as the
+        # tangent may jump) and the maximum velocity curve of the rows at each point
+        # alone: an upper bound of each stage's, which Newton steps below bring down.
+        contiguous = np.ascontiguousarray
+        slope_u, curve_x, at_point, at_points = _passes.channel_rows(
+            contiguous(ascending), contiguous(rate_of), _bernstein(degree),
+            *(contiguous(side, dtype=float) for side in (vel_lo, vel_hi, acc_lo, acc_hi)),
+            _FLAT * scale)  # fmt: skip
+        low_b = np.broadcast_to(np.tile(acc_lo, degree + 1), slope_u.shape)
+        high_b = np.broadcast_to(np.tile(acc_hi, degree + 1), slope_u.shape)
         threshold = np.full(slope_u.shape, _FLAT * scale)
         self._scaled = np.ones(slope_u.shape[1], dtype=bool)
         if extra is not None and extra.on_u.shape[1]:
@@ -162,47 +156,20 @@ class Stages:
                 np.concatenate(pair, axis=1) for pair in pairs
             )
             self._scaled = np.append(self._scaled, np.zeros(extra.on_u.shape[1], dtype=bool))
-        valid, rate, high, low = _affine_rows(slope_u, curve_x, low_b, high_b, threshold)
         # Each stage's own maximum velocity curve: the largest x_i for which some u
         # keeps every acceleration row of the interval, found by Newton steps from
         # above. Only up to a few times the velocity cap matters; where even the
         # points' curve is infinite (every channel still), pairs of rows give the start.
         start = np.minimum(4.0 * at_point[:-1], at_points[:-1])
-        rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, threshold)
-        # Flat rows bound x alone: x <= bound / on_x on the side on_x points to.
-        with np.errstate(divide="ignore", invalid="ignore"):
-            flat_cap = np.where(curve_x > 0, high_b / curve_x,
-                                np.where(curve_x < 0, low_b / curve_x, np.inf))  # fmt: skip
-        flat_cap = np.where(valid | np.isnan(flat_cap), np.inf, np.maximum(flat_cap, 0.0))
-        start = np.minimum(start, flat_cap.min(axis=1))
-        unbounded = np.flatnonzero(~np.isfinite(start))
-        if unbounded.size:
-            start[unbounded] = _maximum_velocity_curve(*(r[unbounded] for r in rows))
-        stage_cap, doubt = _feasible_below(start, valid, rate, high, low)
-        if doubt.any():  # all pairs of rows, exactly
-            k = np.flatnonzero(doubt)
-            stage_cap[k] = np.minimum(start[k], _maximum_velocity_curve(*(r[k] for r in rows)))
-        self._rows = rows
-        twice = 2.0 * delta[:, None]
-        # Forward: x_{i+1} = x_i + 2Δu <= (1 + 2Δr) x_i + 2Δ p_hi for every row.
-        self._grow = 1.0 + twice * rate
-        self._push = np.where(valid & np.isfinite(high), twice * high, np.inf)
-        # A row whose line falls with x_i (1 + 2Δr < 0) leaves x_{i+1} >= 0 only up to
-        # where it crosses 0: a cap on the stage's x_i, as its acceleration cap. (An
-        # end-of-interval row that bounds the tool's acceleration, say, is such a row.)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            falling = valid & (self._grow < 0.0) & np.isfinite(self._push)
-            crossing = np.where(falling, self._push / -np.where(falling, self._grow, -1.0), np.inf)
-        stage_cap = np.minimum(stage_cap, np.maximum(crossing, 0.0).min(axis=1))
+        terms = (slope_u, curve_x, low_b, high_b, threshold)
+        slope_u, curve_x, low_b, high_b, threshold = (contiguous(t, dtype=float) for t in terms)
+        (valid, rate, high, low, stage_cap, self._grow, self._push, self._shrink, self._pull,
+         self._usable) = _passes.stage_setup(slope_u, curve_x, low_b, high_b, threshold, start,
+                                             delta, ROUNDING_RTOL)  # fmt: skip
+        self._rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, threshold)
         self.acceleration_cap = np.append(stage_cap, at_points[-1])
         self._exact = np.zeros(delta.size + 1, dtype=bool)
         self.velocity_cap = self._rates_inside(ascending, at_point, vel_lo, vel_hi)
-        # Backward: x_i <= (x_{i+1} - 2Δ p_lo) / (1 + 2Δr) where 1 + 2Δr > 0; where
-        # it is not, the lower bound only asks x_i >= a negative number.
-        usable = valid & (self._grow > 0.0) & np.isfinite(low)
-        self._shrink = np.where(usable, 1.0 / np.where(usable, self._grow, 1.0), 0.0)
-        self._pull = np.where(usable, twice * np.where(usable, low, 0.0), 0.0)
-        self._usable = usable
         self.corners = channels.corners
 
     def _rates_inside(self, ascending: FloatArray, at_point: FloatArray, vel_lo: FloatArray,
@@ -320,29 +287,6 @@ class Stages:
         return x
 
 
-def _rate_cap(slope: FloatArray, lower: FloatArray, upper: FloatArray, scale: float) -> FloatArray:
-    """The largest x with ``c' ṡ`` within its side's bound, for every point."""
-    moving = np.abs(slope) > _FLAT * scale
-    side = np.where(slope > 0, upper, -lower)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cap = np.where(moving, (side / np.where(moving, np.abs(slope), 1.0)) ** 2, np.inf)
-    return np.min(cap, axis=1)
-
-
-def _affine_rows(
-    slope: FloatArray, curve: FloatArray, lower: FloatArray, upper: FloatArray,
-    threshold: FloatArray,
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
-    """``lower <= slope u + curve x <= upper`` as ``lo + r x <= u <= hi + r x``, per row."""
-    valid = np.abs(slope) > threshold
-    safe = np.where(valid, slope, 1.0)
-    with np.errstate(invalid="ignore"):
-        hi = np.where(valid, np.where(slope > 0, upper, lower) / safe, np.inf)
-        lo = np.where(valid, np.where(slope > 0, lower, upper) / safe, -np.inf)
-    r = np.where(valid, -curve / safe, 0.0)
-    return valid, r, hi, lo
-
-
 def _maximum_velocity_curve(
     valid: FloatArray,
     r: FloatArray,
@@ -368,27 +312,6 @@ def _maximum_velocity_curve(
                                    (d1, float), (d2, float), (acc_lo, float), (acc_hi, float),
                                    (threshold, float)))  # fmt: skip
     return _passes.maximum_velocity_curve(*arrays)
-
-
-def _feasible_below(
-    cap: FloatArray, valid: FloatArray, rate: FloatArray, high: FloatArray, low: FloatArray
-) -> tuple[FloatArray, np.ndarray]:
-    """Lower each stage's ``cap`` to the largest x where all its rows leave room for u.
-
-    ``room(x) = min_k U_k(x) - max_j L_j(x)`` is concave and piecewise linear; from an
-    x where it is negative, the root of its active piece is still at or beyond the
-    largest root (a concave function lies below its pieces' lines), so a few such
-    Newton steps from the right land on it exactly. Returns the caps and the stages
-    where rounding or the step count left that in doubt. Compiled, one stage at a time.
-    """
-    from trajkit.time_optimal import _passes
-
-    contiguous = np.ascontiguousarray
-    return _passes.feasible_below(
-        contiguous(cap, dtype=float), contiguous(valid, dtype=np.bool_),
-        contiguous(rate, dtype=float), contiguous(high, dtype=float),
-        contiguous(low, dtype=float), ROUNDING_RTOL,
-    )  # fmt: skip
 
 
 def recurrence(a: FloatArray, b: FloatArray, high: FloatArray, y0: float) -> FloatArray:
