@@ -19,8 +19,9 @@ from trajkit.kinematics import UR5, DHRow, SerialChain, inertials_from_dh, inver
 from trajkit.time_optimal import TorqueLimit
 
 ta = pytest.importorskip("toppra", reason="toppra is the oracle: pip install toppra")
-algo = pytest.importorskip("toppra.algorithm")
-constraint = pytest.importorskip("toppra.constraint")
+algo = pytest.importorskip("toppra.algorithm", reason="toppra is the oracle: pip install toppra")
+constraint = pytest.importorskip("toppra.constraint",
+                                 reason="toppra is the oracle: pip install toppra")  # fmt: skip
 
 #: toppra's grid for its converged optimum (its durations change by < 0.01% past it).
 CONVERGED = 3000
