@@ -184,9 +184,7 @@ def topp(
             "a path to time must be continuous"
         )
     ndof = polynomial.ndof
-    if not np.any(polynomial.evaluate(points, 1)) and not np.any(
-        polynomial.extrema(1).peak
-    ):  # every joint constant: no timing to find
+    if not np.any(polynomial.coefficients[:-1]):  # every piece of every joint constant
         raise InvalidInputError("the path never moves (every joint is constant): nothing to time")
     speeds = (finite_scalar("start_speed", start_speed, unit="1/s"),
               finite_scalar("end_speed", end_speed, unit="1/s"))  # fmt: skip

@@ -372,3 +372,62 @@ def stage_setup(on_u, on_x, lower, upper, threshold, start, delta, rounding):  #
                 shrink[i, j] = 1.0 / grow[i, j]
                 pull[i, j] = twice * low[i, j]
     return valid, rate, high, low, newton, grow, push, shrink, pull, usable
+
+
+@njit(cache=True)
+def _larger(a, b):  # pragma: no cover
+    """``np.maximum`` of two numbers: NaN if either is."""
+    if np.isnan(a) or np.isnan(b):
+        return np.nan
+    return a if a > b else b
+
+
+@njit(cache=True)
+def rate_ratios(ascending, w, vel_lo, vel_hi, square_hull, hull):  # pragma: no cover
+    """Per interval, the largest ratio of a channel's squared rate to its bound squared.
+
+    With ``x`` linear from ``w_i`` to ``w_{i+1}`` across the interval, the squared rate
+    ``c'(τ)² x(τ)`` is bounded through the Bernstein coefficients of ``c'²`` (from
+    ``square_hull``) raised one degree by the linear ``x``; the bound is that of the
+    side the channel moves to (from ``hull``, the Bernstein matrix of ``c'``), the
+    tighter of the two if it turns. At least 1; NaN propagates as in numpy.
+    """
+    size, n, m = ascending.shape
+    top = 2 * size - 1
+    out = np.empty(n)
+    square = np.empty(top)
+    g = np.empty(top)
+    for i in range(n):
+        best = 1.0
+        for j in range(m):
+            square[:] = 0.0
+            for a in range(size):
+                for b in range(size):
+                    square[a + b] += ascending[a, i, j] * ascending[b, i, j]
+            for c in range(top):
+                total = 0.0
+                for k in range(top):
+                    total += square_hull[c, k] * square[k]
+                g[c] = total
+            rate2 = _larger(g[0] * w[i], g[top - 1] * w[i + 1])
+            for c in range(1, top):
+                share = c / top
+                rate2 = _larger(rate2, (1.0 - share) * g[c] * w[i] + share * g[c - 1] * w[i + 1])
+            rising, falling = True, True
+            for c in range(size):
+                total = 0.0
+                for k in range(size):
+                    total += hull[c, k] * ascending[k, i, j]
+                if not total >= 0.0:
+                    rising = False
+                if not total <= 0.0:
+                    falling = False
+            if rising:
+                side = vel_hi[j]
+            elif falling:
+                side = -vel_lo[j]
+            else:
+                side = min(vel_hi[j], -vel_lo[j])
+            best = _larger(best, rate2 / side**2)
+        out[i] = best
+    return out

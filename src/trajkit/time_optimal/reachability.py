@@ -192,25 +192,16 @@ class Stages:
         # end say) would make the interpolated rate between them huge and crush the
         # neighbour's cap; no timing goes from one to the other within an interval.
         w = np.minimum(w, 4.0 * np.minimum(np.append(w[1:], np.inf), np.insert(w[:-1], 0, np.inf)))
-        square = np.zeros((2 * degree + 1, *ascending.shape[1:]))
-        for i in range(degree + 1):
-            square[i : i + degree + 1] += ascending[i] * ascending
-        shape = square.shape
-        g = (_bernstein(2 * degree) @ square.reshape(shape[0], -1)).reshape(shape)  # c'² hull
-        # Times the linear x(τ) from w_i to w_{i+1} (degree elevation), coefficient c of
-        # 0..2K+1: ((2K+1-c) g_c w_i + c g_{c-1} w_{i+1}) / (2K+1).
-        top = 2 * degree + 1
-        share = (np.arange(1, top) / top)[:, None, None]
-        ends = np.maximum(g[0] * w[:-1, None], g[-1] * w[1:, None])
-        inner = ((1.0 - share) * g[1:] * w[None, :-1, None]
-                 + share * g[:-1] * w[None, 1:, None]).max(axis=0)  # fmt: skip
-        rate2 = np.maximum(ends, inner)  # (N, m)
-        hull = np.einsum("cj,jnm->cnm", _bernstein(degree), ascending)
-        # The bound of the side the channel moves to; both sides' tighter one if it turns.
-        either = np.minimum(vel_hi, -vel_lo)
-        side = np.where((hull >= 0).all(axis=0), vel_hi,
-                        np.where((hull <= 0).all(axis=0), -vel_lo, either))  # fmt: skip
-        rho = np.maximum((rate2 / side**2).max(axis=1), 1.0)
+        from trajkit.time_optimal import _passes
+
+        # The Bernstein coefficients of c'² times the linear x(τ) from w_i to w_{i+1}
+        # (degree elevation): coefficient c of 0..2K+1 is
+        # ((2K+1-c) g_c w_i + c g_{c-1} w_{i+1}) / (2K+1); over the side's bound squared.
+        contiguous = np.ascontiguousarray
+        rho = _passes.rate_ratios(
+            contiguous(ascending, dtype=float), contiguous(w, dtype=float),
+            contiguous(vel_lo, dtype=float), contiguous(vel_hi, dtype=float),
+            _bernstein(2 * degree), _bernstein(degree))  # fmt: skip
         around = np.maximum(np.append(rho, 1.0), np.insert(rho, 0, 1.0))
         return np.minimum(at_point, w / around)
 
