@@ -1,7 +1,18 @@
-"""The reachability passes, compiled: scalar loops over stages and their lines.
+"""The time-optimal solver's hot loops, compiled: scalar code over stages and rows.
 
-Importing this module imports numba (slow): :mod:`.reachability` imports it inside
-its functions, so ``import trajkit`` stays fast.
+* :func:`channel_rows` — each stage's Bernstein rows of the path's channels, and
+  the caps at each grid point;
+* :func:`stage_setup` — each stage's rows as bounds on ``u``, its maximum velocity
+  curve (:func:`feasible_below`, :func:`maximum_velocity_curve`) and the passes'
+  terms; :func:`rate_ratios` — the squared-rate hull behind the velocity caps;
+* :func:`recurrence` — the backward and forward passes;
+* :func:`cubic_extremes` and :func:`compose` — the timed path's exact peaks and its
+  polynomials.
+
+Each replaces the NumPy code that was here before it, with the same results (the
+tests compare them with plain re-implementations and with toppra). Importing this
+module imports numba (slow): :mod:`.reachability` and :mod:`.timing` import it inside
+their functions, so ``import trajkit`` stays fast.
 """
 
 import numpy as np
