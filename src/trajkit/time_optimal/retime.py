@@ -80,7 +80,8 @@ def blended_path(
     tolerance = finite_scalar("path_tolerance", path_tolerance, unit="rad or m")
     if tolerance < 0.0:
         raise InvalidInputError(f"path_tolerance must be >= 0, got {tolerance:g}")
-    steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    with np.errstate(over="ignore", invalid="ignore"):  # refused just below, by name
+        steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
     if not np.all(np.isfinite(steps)):
         raise InvalidInputError("waypoints are too far apart: their distances overflow float64")
     scale = max(float(np.abs(points).max()), 1.0)
