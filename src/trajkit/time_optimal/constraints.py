@@ -236,12 +236,15 @@ class TorqueLimit(PathLimit):
     def quantities(self) -> list[tuple[str, list[int], tuple[str, ...]]]:  # noqa: D102
         return [("torque", list(range(self.chain.ndof)), ())]
 
-    def rows(self, q, dq, ddq, lower, upper):  # noqa: D102 - see PathLimit.rows
+    def rows(  # noqa: D102 - see PathLimit.rows
+        self, q: FloatArray, dq: FloatArray, ddq: FloatArray, lower: FloatArray,
+        upper: FloatArray,
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
         a, b, c = path_dynamics(self.chain, q, dq, ddq, inertials=self.inertials,
                                 gravity=self.gravity)  # fmt: skip
         return a, b, c, lower, upper
 
-    def values(self, q, qd, qdd):  # noqa: D102 - see PathLimit.values
+    def values(self, q: FloatArray, qd: FloatArray, qdd: FloatArray) -> FloatArray:  # noqa: D102
         return inverse_dynamics(self.chain, q, qd, qdd, inertials=self.inertials,
                                 gravity=self.gravity)  # fmt: skip
 
@@ -312,7 +315,10 @@ class ToolLimit(PathLimit):
         return [(f"tool {kind.replace('_', ' ')}", [k], ("tool",))
                 for k, kind in enumerate(self._kinds)]  # fmt: skip
 
-    def rows(self, q, dq, ddq, lower, upper):  # noqa: D102 - see PathLimit.rows
+    def rows(  # noqa: D102 - see PathLimit.rows
+        self, q: FloatArray, dq: FloatArray, ddq: FloatArray, lower: FloatArray,
+        upper: FloatArray,
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
         jacobian = self.chain.jacobian(q)  # (n, 6, ndof)
         tangent = np.einsum("nkj,nj->nk", jacobian, dq)  # d(tool)/ds, linear then angular
         parts: list[tuple[FloatArray, ...]] = []
@@ -328,7 +334,10 @@ class ToolLimit(PathLimit):
         return tuple(np.column_stack([np.atleast_2d(p[i].T).T for p in parts])
                      for i in range(5))  # type: ignore[return-value]  # fmt: skip
 
-    def _acceleration_rows(self, jacobian, q, dq, ddq, tangent, bound):
+    def _acceleration_rows(
+        self, jacobian: FloatArray, q: FloatArray, dq: FloatArray, ddq: FloatArray,
+        tangent: FloatArray, bound: FloatArray,
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
         """The polygon inside the disc ``|p' u + p'' x| <= bound`` in their plane."""
         linear = tangent[:, :3]
         curve = self._linear_acceleration(jacobian, q, dq, ddq)
@@ -349,13 +358,14 @@ class ToolLimit(PathLimit):
         high = np.repeat((bound * np.cos(np.pi / _DIRECTIONS))[:, None], _DIRECTIONS, axis=1)
         return on_u, on_x, 0.0 * on_u, np.full_like(on_u, -np.inf), high
 
-    def _linear_acceleration(self, jacobian, q, rate, second):
+    def _linear_acceleration(self, jacobian: FloatArray, q: FloatArray, rate: FloatArray,
+                             second: FloatArray) -> FloatArray:  # fmt: skip
         """``J q̈ + J̇ q̇`` (linear rows): the tool's acceleration, or ``p''`` along a path."""
         jacobian_dot = self.chain.jacobian_dot(q, rate)[:, :3]
         return (np.einsum("nkj,nj->nk", jacobian[:, :3], second)
                 + np.einsum("nkj,nj->nk", jacobian_dot, rate))  # fmt: skip
 
-    def values(self, q, qd, qdd):  # noqa: D102 - see PathLimit.values
+    def values(self, q: FloatArray, qd: FloatArray, qdd: FloatArray) -> FloatArray:  # noqa: D102
         jacobian = self.chain.jacobian(q)
         twist = np.einsum("nkj,nj->nk", jacobian, qd)
         out = []
