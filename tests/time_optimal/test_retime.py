@@ -151,3 +151,20 @@ def test_bad_limits_and_grid():
     for grid in (1, 2.5, True, "fine"):
         with pytest.raises(InvalidInputError, match="grid must be a whole number"):
             tk.retime(SQUARE, LIMITS, grid=grid)
+
+
+def test_retime_keeps_torque_and_tool_limits_too():
+    from trajkit.kinematics import UR5
+
+    ur5 = UR5()
+    way = np.radians([[0, -90, 0, -90, 0, 0], [40, -60, 60, -90, -30, 0],
+                      [70, -110, 100, -80, 0, 45], [0, -90, 0, -90, 0, 0]])  # fmt: skip
+    fast = tk.Limits(velocity=np.pi, acceleration=50.0)
+    limits = [tk.TorqueLimit(ur5), tk.ToolLimit(ur5, speed=0.8)]
+    motion = tk.retime(way, fast, path_tolerance=0.05, constraints=limits)
+    assert motion.check(fast).ok
+    assert [report.ok for report in motion.info["constraint_checks"]] == [True, True]
+    t = np.linspace(0.0, motion.end_time, 20001)
+    speed = limits[1].values(motion(t), motion.velocity(t), motion.acceleration(t))
+    assert 0.79 < speed.max() <= 0.8 * (1 + 1e-9)
+    assert motion.duration > tk.retime(way, fast, path_tolerance=0.05).duration

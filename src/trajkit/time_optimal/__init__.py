@@ -460,10 +460,12 @@ def jumps(path: Trajectory, order: int) -> FloatArray:
     inner = path.breakpoints[1:-1]
     if not inner.size:
         return inner
-    left = path.evaluate(np.nextafter(inner, -np.inf), order)
-    right = path.evaluate(inner, order)
-    scale = max(float(np.abs(path.evaluate(path.breakpoints, order)).max()), 1.0)
-    return inner[np.abs(left - right).max(axis=1) > JUMP_RTOL * scale]
+    # One evaluation: just before each inner breakpoint, then at every breakpoint.
+    values = path.evaluate(np.concatenate([np.nextafter(inner, -np.inf), path.breakpoints]),
+                           order)  # fmt: skip
+    left, at_points = values[: inner.size], values[inner.size :]
+    scale = max(float(np.abs(at_points).max()), 1.0)
+    return inner[np.abs(left - at_points[1:-1]).max(axis=1) > JUMP_RTOL * scale]
 
 
 def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
