@@ -53,11 +53,12 @@ def shift_origin(c: FloatArray, shift: FloatArray | float) -> FloatArray:
     """Coefficients of ``p(x - shift)``: re-expand around a new origin."""
     k = c.shape[0] - 1
     out = np.zeros_like(c)
-    # (x - s)**n = sum_j C(n, j) x**j (-s)**(n - j)
+    # (x - s)**n = sum_j C(n, j) x**j (-s)**(n - j); each power of -s computed once.
+    powers = [np.power(-shift, n) for n in range(k + 1)]
     for i in range(k + 1):
         n = k - i
         for j in range(n + 1):
-            out[k - j] += c[i] * comb(n, j) * np.power(-shift, n - j)
+            out[k - j] += c[i] * comb(n, j) * powers[n - j]
     return out
 
 

@@ -191,7 +191,8 @@ class Stages:
         # A cap far above its neighbours (where the path's tangent vanishes, at its
         # end say) would make the interpolated rate between them huge and crush the
         # neighbour's cap; no timing goes from one to the other within an interval.
-        w = np.minimum(w, 4.0 * np.minimum(np.append(w[1:], np.inf), np.insert(w[:-1], 0, np.inf)))
+        w = np.minimum(w, 4.0 * np.minimum(np.append(w[1:], np.inf),
+                                           np.concatenate(([np.inf], w[:-1]))))  # fmt: skip
         from trajkit.time_optimal import _passes
 
         # The Bernstein coefficients of c'² times the linear x(τ) from w_i to w_{i+1}
@@ -202,7 +203,7 @@ class Stages:
             contiguous(ascending, dtype=float), contiguous(w, dtype=float),
             contiguous(vel_lo, dtype=float), contiguous(vel_hi, dtype=float),
             _bernstein(2 * degree), _bernstein(degree))  # fmt: skip
-        around = np.maximum(np.append(rho, 1.0), np.insert(rho, 0, 1.0))
+        around = np.maximum(np.append(rho, 1.0), np.concatenate(([1.0], rho)))
         return np.minimum(at_point, w / around)
 
     def caps(self, velocity_factor: FloatArray, acceleration_scale: FloatArray) -> FloatArray:
