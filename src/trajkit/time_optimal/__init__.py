@@ -24,12 +24,12 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
+from math import comb
 from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from trajkit import _poly
 from trajkit._validation import FloatArray, as_float_array, finite_result, finite_scalar
 from trajkit.curve import Segmented
 from trajkit.errors import InfeasibleError, InvalidInputError
@@ -444,11 +444,23 @@ def path_channels(
     Channels
         ``c'(σ)`` of every joint on every interval, with the bounds and corners.
     """
+    from trajkit.time_optimal import _passes
+
     piece, offset = pieces_of(path, s)
-    local = _poly.shift_origin(path.coefficients[:, piece, :], -offset[:, None])
-    slope = _poly.derivative(local, 1)
+    slope = _passes.local_slopes(np.ascontiguousarray(path.coefficients, dtype=float), piece,
+                                 np.ascontiguousarray(offset, dtype=float),
+                                 _binomials(path.coefficients.shape[0]))  # fmt: skip
     corners = np.searchsorted(s, jumps(path, 1))
     return Channels(s, slope, velocity, acceleration, corners)
+
+
+def _binomials(size: int) -> FloatArray:
+    """``C(n, j)`` for ``n, j < size``, as floats."""
+    out = np.zeros((size, size))
+    for n in range(size):
+        for j in range(n + 1):
+            out[n, j] = comb(n, j)
+    return out
 
 
 def jumps(path: Trajectory, order: int) -> FloatArray:

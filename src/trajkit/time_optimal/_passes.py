@@ -6,8 +6,9 @@
   curve (:func:`feasible_below`, :func:`maximum_velocity_curve`) and the passes'
   terms; :func:`rate_ratios` — the squared-rate hull behind the velocity caps;
 * :func:`recurrence` — the backward and forward passes;
-* :func:`cubic_extremes` and :func:`compose` — the timed path's exact peaks and its
-  polynomials.
+* :func:`local_slopes` — the path's slope re-expanded on every interval;
+* :func:`cubic_ratios` and :func:`compose` — the timed path's exact peaks against
+  the bounds, and its polynomials.
 
 Each replaces the NumPy code that was here before it, with the same results (the
 tests compare them with plain re-implementations and with toppra). Importing this
@@ -120,53 +121,6 @@ def _extreme(values, smallest):  # pragma: no cover
         if (value < best) if smallest else (value > best):
             best = value
     return best
-
-
-@njit(cache=True)
-def cubic_extremes(a3, a2, a1, w0, x, delta):  # pragma: no cover
-    """Least and greatest joint velocity and acceleration per interval of a cubic path.
-
-    ``q = a3 w³ + a2 w² + a1 w + a0`` in the piece's variable ``w``, which is ``w0``
-    at the interval's start; ``x = ṡ²`` at the grid points, linear in between. In
-    ``σ = s - s_i``: ``q̈ = A σ² + B σ + C`` (extremes at the ends and the vertex) and
-    ``q̇ = q' ṡ`` peaks at the ends or where ``q̈`` vanishes.
-    """
-    n, ndof = a3.shape
-    v_low, v_high = np.empty((n, ndof)), np.empty((n, ndof))
-    a_low, a_high = np.empty((n, ndof)), np.empty((n, ndof))
-    accel, speed, where = np.empty(3), np.empty(4), np.empty(4)
-    for i in range(n):
-        xi = x[i]
-        ui = (x[i + 1] - x[i]) / (2.0 * delta[i])
-        width = delta[i]
-        for j in range(ndof):
-            w = w0[i]
-            d0 = 3.0 * a3[i, j] * w**2 + 2.0 * a2[i, j] * w + a1[i, j]
-            d1 = 6.0 * a3[i, j] * w + 2.0 * a2[i, j]
-            d2 = 3.0 * a3[i, j]
-            big_a = 5.0 * d2 * ui
-            big_b = 3.0 * d1 * ui + 2.0 * d2 * xi
-            big_c = d1 * xi + d0 * ui
-            vertex = -big_b / (2.0 * big_a) if big_a != 0.0 else 0.0
-            root = np.sqrt(max(big_b**2 - 4.0 * big_a * big_c, 0.0))
-            if abs(big_a) <= 1e-300:
-                root1 = -big_c / big_b if big_b != 0.0 else 0.0
-                root2 = 0.0
-            else:
-                root1 = (-big_b + root) / (2.0 * big_a)
-                root2 = (-big_b - root) / (2.0 * big_a)
-            middle = _clip(vertex, width)
-            accel[0] = big_c
-            accel[1] = big_a * width**2 + big_b * width + big_c
-            accel[2] = big_a * middle**2 + big_b * middle + big_c
-            where[0], where[1] = _clip(root1, width), _clip(root2, width)
-            where[2], where[3] = 0.0, width
-            for k in range(4):
-                t = where[k]
-                speed[k] = (d0 + d1 * t + d2 * t**2) * np.sqrt(max(xi + 2.0 * ui * t, 0.0))
-            v_low[i, j], v_high[i, j] = _extreme(speed, True), _extreme(speed, False)
-            a_low[i, j], a_high[i, j] = _extreme(accel, True), _extreme(accel, False)
-    return v_low, v_high, a_low, a_high
 
 
 @njit(cache=True)
@@ -442,3 +396,88 @@ def rate_ratios(ascending, w, vel_lo, vel_hi, square_hull, hull):  # pragma: no 
             best = _larger(best, rate2 / side**2)
         out[i] = best
     return out
+
+
+@njit(cache=True)
+def local_slopes(coefficients, piece, offset, binomial):  # pragma: no cover
+    """``d/dσ q(w0 + σ)`` on every interval, descending in σ.
+
+    Each interval's path piece is re-expanded at the interval's start ``w0``
+    (``offset``) and differentiated. ``coefficients`` (k + 1, P, m) descending,
+    ``binomial[n, j]`` = C(n, j).
+    """
+    size, _, m = coefficients.shape
+    k = size - 1
+    n_intervals = piece.size
+    out = np.zeros((max(k, 1), n_intervals, m))
+    if k == 0:
+        return out
+    shifted = np.empty(size)
+    powers = np.empty(size)
+    for i in range(n_intervals):
+        p = piece[i]
+        for e in range(size):  # as numpy's power does it, for the same rounding
+            powers[e] = offset[i] ** float(e)
+        for j in range(m):
+            shifted[:] = 0.0
+            # (x + w0)**n = sum_l C(n, l) x**l w0**(n - l)
+            for r in range(size):
+                n = k - r
+                for exponent in range(n + 1):
+                    shifted[k - exponent] += (coefficients[r, p, j] * binomial[n, exponent]
+                                              * powers[n - exponent])  # fmt: skip
+            for r in range(k):
+                out[r, i, j] = shifted[r] * (k - r)
+    return out
+
+
+@njit(cache=True)
+def cubic_ratios(c4, piece, w0, x, delta, v_lo, v_hi, a_lo, a_hi):  # pragma: no cover
+    """Per interval, the largest ratio of joint velocity and of acceleration to its bound.
+
+    The path is cubic at most (``c4``: (4, P, m), descending, zero-padded). In
+    ``σ = s - s_i``, ``q̈ = A σ² + B σ + C`` has its extremes at the ends and the
+    vertex, and ``q̇ = q' ṡ`` peaks at the ends or where ``q̈`` vanishes. A value's
+    ratio is to the bound of its side; NaN propagates as in numpy.
+    """
+    n, m = piece.size, c4.shape[2]
+    ratio_v, ratio_a = np.empty(n), np.empty(n)
+    accel, speed, where = np.empty(3), np.empty(4), np.empty(4)
+    for i in range(n):
+        xi = x[i]
+        ui = (x[i + 1] - x[i]) / (2.0 * delta[i])
+        width = delta[i]
+        w = w0[i]
+        p = piece[i]
+        worst_v, worst_a = -np.inf, -np.inf
+        for j in range(m):
+            a3, a2, a1 = c4[0, p, j], c4[1, p, j], c4[2, p, j]
+            d0 = 3.0 * a3 * w**2 + 2.0 * a2 * w + a1
+            d1 = 6.0 * a3 * w + 2.0 * a2
+            d2 = 3.0 * a3
+            big_a = 5.0 * d2 * ui
+            big_b = 3.0 * d1 * ui + 2.0 * d2 * xi
+            big_c = d1 * xi + d0 * ui
+            vertex = -big_b / (2.0 * big_a) if big_a != 0.0 else 0.0
+            root = np.sqrt(max(big_b**2 - 4.0 * big_a * big_c, 0.0))
+            if abs(big_a) <= 1e-300:
+                root1 = -big_c / big_b if big_b != 0.0 else 0.0
+                root2 = 0.0
+            else:
+                root1 = (-big_b + root) / (2.0 * big_a)
+                root2 = (-big_b - root) / (2.0 * big_a)
+            middle = _clip(vertex, width)
+            accel[0] = big_c
+            accel[1] = big_a * width**2 + big_b * width + big_c
+            accel[2] = big_a * middle**2 + big_b * middle + big_c
+            where[0], where[1] = _clip(root1, width), _clip(root2, width)
+            where[2], where[3] = 0.0, width
+            for k in range(4):
+                t = where[k]
+                speed[k] = (d0 + d1 * t + d2 * t**2) * np.sqrt(max(xi + 2.0 * ui * t, 0.0))
+            v = _larger(_extreme(speed, False) / v_hi[j], _extreme(speed, True) / v_lo[j])
+            a = _larger(_extreme(accel, False) / a_hi[j], _extreme(accel, True) / a_lo[j])
+            worst_v = v if j == 0 else _larger(worst_v, v)
+            worst_a = a if j == 0 else _larger(worst_a, a)
+        ratio_v[i], ratio_a[i] = worst_v, worst_a
+    return ratio_v, ratio_a

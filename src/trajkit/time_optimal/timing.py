@@ -228,7 +228,9 @@ def interval_peaks(
     ratio_v, ratio_a : ndarray, shape (N,)
         Per interval, the largest value-to-bound ratio (1 at the bound).
     """
-    extremes = _cubic_extremes(path, s, x) if path.degree <= 3 else _timed_extremes(path, s, x)
+    if path.degree <= 3:
+        return _cubic_ratios(path, s, x, velocity, acceleration)
+    extremes = _timed_extremes(path, s, x)
     ratios = [
         np.maximum(high / upper, low / lower).max(axis=1)
         for (low, high), (lower, upper) in zip(extremes, (velocity, acceleration), strict=True)
@@ -250,19 +252,25 @@ def _timed_extremes(path: Trajectory, s: FloatArray, x: FloatArray) -> _Extremes
     return extremes[0], extremes[1]
 
 
-def _cubic_extremes(path: Trajectory, s: FloatArray, x: FloatArray) -> _Extremes:
+def _cubic_ratios(
+    path: Trajectory,
+    s: FloatArray,
+    x: FloatArray,
+    velocity: tuple[FloatArray, FloatArray],
+    acceleration: tuple[FloatArray, FloatArray],
+) -> tuple[FloatArray, FloatArray]:
     """Closed forms on a path of degree <= 3, without building the timed polynomials.
 
     On an interval ``x`` is linear in ``s``, so ``q̈ = q'' x + q' s̈`` is a quadratic
     in ``σ = s - s_i`` (extremes at the ends and the vertex), and ``q̇ = q' ṡ`` peaks
-    at the ends or where ``q̈`` vanishes.
+    at the ends or where ``q̈`` vanishes; compiled, one interval and joint at a time.
     """
     from trajkit.time_optimal import _passes
 
     piece, w0 = pieces_of(path, s)
-    c = np.zeros((4, piece.size, path.ndof))
-    c[4 - path.coefficients.shape[0] :] = path.coefficients[:, piece, :]
-    v_low, v_high, a_low, a_high = _passes.cubic_extremes(
-        c[0], c[1], c[2], np.ascontiguousarray(w0, dtype=float),
-        np.ascontiguousarray(x, dtype=float), np.diff(s))  # fmt: skip
-    return (v_low, v_high), (a_low, a_high)
+    padded = np.zeros((4, *path.coefficients.shape[1:]))
+    padded[4 - path.coefficients.shape[0] :] = path.coefficients
+    contiguous = np.ascontiguousarray
+    return _passes.cubic_ratios(
+        padded, piece, contiguous(w0, dtype=float), contiguous(x, dtype=float), np.diff(s),
+        *(contiguous(side, dtype=float) for side in (*velocity, *acceleration)))  # fmt: skip
