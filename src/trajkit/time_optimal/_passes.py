@@ -481,3 +481,48 @@ def cubic_ratios(c4, piece, w0, x, delta, v_lo, v_hi, a_lo, a_hi):  # pragma: no
             worst_a = a if j == 0 else _larger(worst_a, a)
         ratio_v[i], ratio_a[i] = worst_v, worst_a
     return ratio_v, ratio_a
+
+
+@njit(cache=True)
+def passes(shrink, pull, usable, grow, push, valid, rate, low, scaled, acc_scale, cap, x_start,
+           x_end, delta):  # pragma: no cover  # fmt: skip
+    """Both passes of one solve, and the stages left with no u between their rows.
+
+    Backward from the end, ``reach_i = clip(min_j shrink (reach_{i+1} - pull), 0,
+    cap_i)`` over the usable rows; forward, ``x_{i+1} = clip(min_j (grow x_i + push),
+    0, reach_{i+1})``; each row's bounds scaled by ``acc_scale`` where ``scaled``.
+    Returns ``reach``, ``x`` (its last value the end speed's square), the forward
+    pass's own last value, and per stage whether ``u`` fell below its rows' least
+    bound (by more than rounding amplified by ``1 / 2Δ``).
+    """
+    n = cap.size - 1
+    rows = shrink.shape[1]
+    pulled, pushed = np.empty((n, rows)), np.empty((n, rows))
+    for k in range(n):
+        for j in range(rows):
+            scale = acc_scale[k] if scaled[j] else 1.0
+            pulled[k, j] = -shrink[k, j] * pull[k, j] * scale if usable[k, j] else np.inf
+            pushed[k, j] = push[k, j] * scale
+    reach = np.empty(n + 1)
+    reach[n] = min(x_end, cap[n])
+    reach[:n] = recurrence(shrink[::-1], pulled[::-1], cap[n - 1 :: -1], reach[n])[::-1]
+    x = np.empty(n + 1)
+    x[0] = min(x_start, reach[0])
+    x[1:] = recurrence(grow, pushed, reach[1:], x[0])
+    last = x[n]
+    x[n] = min(x_end, reach[n])
+    stuck = np.zeros(n, dtype=np.bool_)
+    for k in range(n):
+        u = (x[k + 1] - x[k]) / (2.0 * delta[k])
+        need = -np.inf
+        for j in range(rows):
+            if valid[k, j] and np.isfinite(low[k, j]):
+                scale = acc_scale[k] if scaled[j] else 1.0
+                value = low[k, j] * scale + rate[k, j] * x[k]
+                if np.isnan(value) or value > need:
+                    need = value
+                    if np.isnan(value):
+                        break
+        slack = 1e-10 * (abs(need) + x[k] / (2.0 * delta[k]))
+        stuck[k] = u < need - slack
+    return reach, x, last, stuck

@@ -238,36 +238,23 @@ class Stages:
                     f"{name} {np.sqrt(x):g} breaks the limits there: at most "
                     f"{np.sqrt(allowed):.6g} (path parameter per second)"
                 )
-        scale = np.where(self._scaled, acceleration_scale[:, None], 1.0)
-        # Backward, from the end: reach_i = clip(min_j shrink (reach_{i+1} - pull), 0, cap_i).
-        a = self._shrink[::-1]
-        b = np.where(self._usable, -self._shrink * self._pull * scale, np.inf)[::-1]
-        end = min(x_end, cap[-1])
-        reach = np.empty(n)
-        reach[-1] = end
-        reach[:-1] = recurrence(a, b, cap[-2::-1], end)[::-1]
+        from trajkit.time_optimal import _passes
+
+        valid, rate, _, low = self._rows[:4]
+        reach, x, last, stuck_stages = _passes.passes(
+            self._shrink, self._pull, self._usable, self._grow, self._push, valid, rate, low,
+            self._scaled, np.ascontiguousarray(acceleration_scale, dtype=float), cap,
+            float(x_start), float(x_end), self.delta)  # fmt: skip
         if x_start > reach[0] * (1 + LIMIT_RTOL):
             raise InfeasibleError(
                 f"start_speed {np.sqrt(x_start):g} is too fast to keep the limits along the path"
             )
-        # Forward: x_{i+1} = clip(min_j (grow x_i + push), 0, reach_{i+1}).
-        x = np.empty(n)
-        x[0] = min(x_start, reach[0])
-        x[1:] = recurrence(self._grow, self._push * scale, reach[1:], x[0])
-        if x[-1] < x_end * (1 - LIMIT_RTOL):
+        if last < x_end * (1 - LIMIT_RTOL):
             raise InfeasibleError(
                 f"end_speed {np.sqrt(x_end):g} is too fast to reach within the limits: at most "
-                f"{np.sqrt(x[-1]):.6g} (path parameter per second)"
+                f"{np.sqrt(last):.6g} (path parameter per second)"
             )
-        x[-1] = min(x_end, reach[-1])
-        u = (x[1:] - x[:-1]) / (2.0 * self.delta)
-        valid, rate, _, low = self._rows[:4]
-        with np.errstate(invalid="ignore"):
-            lows = np.where(valid & np.isfinite(low), low * scale + rate * x[:-1, None], -np.inf)
-        need = lows.max(axis=1)
-        # Rounding in x_{i+1} - x_i is amplified by 1 / 2Δ in u: allow for it.
-        slack = 1e-10 * (np.abs(need) + x[:-1] / (2.0 * self.delta))
-        stuck = np.flatnonzero(u < need - slack)
+        stuck = np.flatnonzero(stuck_stages)
         if stuck.size and not self._exact[stuck].all():
             # A stage with no u between its rows at the x it was given: its own
             # maximum velocity curve, from all pairs of rows, and solve again.
