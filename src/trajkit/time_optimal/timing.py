@@ -229,7 +229,18 @@ def interval_peaks(
         Per interval, the largest value-to-bound ratio (1 at the bound).
     """
     if path.degree <= 3:
-        return _cubic_ratios(path, s, x, velocity, acceleration)
+        # Closed forms, without building the timed polynomials: on an interval x is
+        # linear in s, so q̈ = q'' x + q' s̈ is a quadratic in σ = s - s_i (extremes at
+        # the ends and the vertex), and q̇ = q' ṡ peaks at the ends or where q̈ vanishes.
+        from trajkit.time_optimal import _passes
+
+        piece, w0 = pieces_of(path, s)
+        padded = np.zeros((4, *path.coefficients.shape[1:]))
+        padded[4 - path.coefficients.shape[0] :] = path.coefficients
+        contiguous = np.ascontiguousarray
+        return _passes.cubic_ratios(
+            padded, piece, contiguous(w0, dtype=float), contiguous(x, dtype=float), np.diff(s),
+            *(contiguous(side, dtype=float) for side in (*velocity, *acceleration)))  # fmt: skip
     extremes = _timed_extremes(path, s, x)
     ratios = [
         np.maximum(high / upper, low / lower).max(axis=1)
@@ -250,27 +261,3 @@ def _timed_extremes(path: Trajectory, s: FloatArray, x: FloatArray) -> _Extremes
                                                      np.repeat(lengths, ndof))  # fmt: skip
         extremes.append((low.reshape(m, ndof), high.reshape(m, ndof)))
     return extremes[0], extremes[1]
-
-
-def _cubic_ratios(
-    path: Trajectory,
-    s: FloatArray,
-    x: FloatArray,
-    velocity: tuple[FloatArray, FloatArray],
-    acceleration: tuple[FloatArray, FloatArray],
-) -> tuple[FloatArray, FloatArray]:
-    """Closed forms on a path of degree <= 3, without building the timed polynomials.
-
-    On an interval ``x`` is linear in ``s``, so ``q̈ = q'' x + q' s̈`` is a quadratic
-    in ``σ = s - s_i`` (extremes at the ends and the vertex), and ``q̇ = q' ṡ`` peaks
-    at the ends or where ``q̈`` vanishes; compiled, one interval and joint at a time.
-    """
-    from trajkit.time_optimal import _passes
-
-    piece, w0 = pieces_of(path, s)
-    padded = np.zeros((4, *path.coefficients.shape[1:]))
-    padded[4 - path.coefficients.shape[0] :] = path.coefficients
-    contiguous = np.ascontiguousarray
-    return _passes.cubic_ratios(
-        padded, piece, contiguous(w0, dtype=float), contiguous(x, dtype=float), np.diff(s),
-        *(contiguous(side, dtype=float) for side in (*velocity, *acceleration)))  # fmt: skip
