@@ -526,3 +526,91 @@ def passes(shrink, pull, usable, grow, push, valid, rate, low, scaled, acc_scale
         slack = 1e-10 * (abs(need) + x[k] / (2.0 * delta[k]))
         stuck[k] = u < need - slack
     return reach, x, last, stuck
+
+
+@njit(cache=True)
+def build_stages(ascending, rate_of, hull, square_hull, vel_lo, vel_hi, acc_lo, acc_hi, flat,
+                 extra_on_u, extra_on_x, extra_lower, extra_upper, flat_row, delta,
+                 rounding):  # pragma: no cover  # fmt: skip
+    """Everything :class:`~trajkit.time_optimal.reachability.Stages` holds, in one call.
+
+    The channels' rows (:func:`channel_rows`) and any further rows (``extra_*``, (N, r),
+    flat where their u term is below ``flat_row`` of the larger of their column's
+    largest and their x term in u's units), each stage's cap and the passes' terms
+    (:func:`stage_setup`), and the velocity caps that keep the rates inside every
+    interval (:func:`rate_ratios`).
+    """
+    n, m = ascending.shape[1:]
+    on_u0, on_x0, at_point, at_points = channel_rows(ascending, rate_of, hull, vel_lo, vel_hi,
+                                                     acc_lo, acc_hi, flat)  # fmt: skip
+    own, extra = on_u0.shape[1], extra_on_u.shape[1]
+    rows = own + extra
+    on_u, on_x = np.empty((n, rows)), np.empty((n, rows))
+    lower, upper, threshold = np.empty((n, rows)), np.empty((n, rows)), np.empty((n, rows))
+    column_max = np.zeros(extra)
+    for i in range(n):
+        for r in range(extra):
+            column_max[r] = max(column_max[r], abs(extra_on_u[i, r]))
+    for i in range(n):
+        for r in range(own):
+            on_u[i, r], on_x[i, r] = on_u0[i, r], on_x0[i, r]
+            lower[i, r], upper[i, r] = acc_lo[r % m], acc_hi[r % m]
+            threshold[i, r] = flat
+        for r in range(extra):
+            on_u[i, own + r], on_x[i, own + r] = extra_on_u[i, r], extra_on_x[i, r]
+            lower[i, own + r], upper[i, own + r] = extra_lower[i, r], extra_upper[i, r]
+            threshold[i, own + r] = flat_row * max(column_max[r], abs(extra_on_x[i, r]) * delta[i])
+    start = np.empty(n)
+    for i in range(n):
+        start[i] = _smaller(4.0 * at_point[i], at_points[i])
+    valid, rate, high, low, stage_cap, grow, push, shrink, pull, usable = stage_setup(
+        on_u, on_x, lower, upper, threshold, start, delta, rounding)  # fmt: skip
+    acceleration_cap = np.empty(n + 1)
+    acceleration_cap[:n] = stage_cap
+    acceleration_cap[n] = at_points[n]
+    velocity_cap = _velocity_caps(ascending, at_point, acceleration_cap, vel_lo, vel_hi,
+                                  square_hull, hull)  # fmt: skip
+    return (valid, rate, high, low, on_u, on_x, lower, upper, threshold, grow, push, shrink,
+            pull, usable, acceleration_cap, velocity_cap)  # fmt: skip
+
+
+@njit(cache=True)
+def _velocity_caps(ascending, at_point, acceleration_cap, vel_lo, vel_hi, square_hull,
+                   hull):  # pragma: no cover  # fmt: skip
+    """Velocity caps at the points that keep the rates on the whole of every interval.
+
+    With ``x`` linear on an interval, ``ċ² = c'(τ)² ((1 - τ) x_i + τ x_{i+1})``. Let ``w``
+    be the caps at the points and ``ρ`` the largest ratio of this rate² to its bound
+    when ``x = w`` at both ends (an upper bound, from the Bernstein coefficients:
+    :func:`rate_ratios`); then ``x <= w / ρ`` at both ends keeps the bound throughout.
+    ``ρ`` exceeds 1 by ``O(Δ²)`` where the caps vary smoothly.
+    """
+    count = at_point.size
+    w = np.empty(count)
+    largest = -np.inf
+    any_finite = False
+    for p in range(count):
+        w[p] = _smaller(at_point[p], acceleration_cap[p])
+        if np.isfinite(w[p]):
+            any_finite = True
+            largest = max(largest, w[p])
+    if not any_finite:
+        return at_point.copy()
+    for p in range(count):
+        if not np.isfinite(w[p]):
+            w[p] = largest
+    # A cap far above its neighbours (where the path's tangent vanishes, at its end
+    # say) would make the interpolated rate between them huge and crush the
+    # neighbour's cap; no timing goes from one to the other within an interval.
+    clamped = np.empty(count)
+    for p in range(count):
+        after = w[p + 1] if p + 1 < count else np.inf
+        before = w[p - 1] if p > 0 else np.inf
+        clamped[p] = _smaller(w[p], 4.0 * _smaller(after, before))
+    rho = rate_ratios(ascending, clamped, vel_lo, vel_hi, square_hull, hull)
+    out = np.empty(count)
+    for p in range(count):
+        after = rho[p] if p < count - 1 else 1.0
+        before = rho[p - 1] if p > 0 else 1.0
+        out[p] = _smaller(at_point[p], clamped[p] / _larger(after, before))
+    return out

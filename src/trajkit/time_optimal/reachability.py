@@ -130,81 +130,29 @@ class Stages:
         scale = float(max(np.abs(ascending[0]).max(), np.abs(ascending[:, -1].sum(axis=0)).max()))
         scale = scale or 1.0
         # Acceleration rows: Bernstein coefficients of c'' (on x_i) and c' + 2σ c'' (on u),
-        # stages along axis 0; the velocity cap at each point (from both sides, as the
-        # tangent may jump) and the maximum velocity curve of the rows at each point
-        # alone: an upper bound of each stage's, which Newton steps below bring down.
+        # and any further rows (a row whose u term is negligible beside its x term, as
+        # x ~ 2Δu, or beside that row's largest along the path, bounds x alone: a row
+        # flat by construction, a direction across the tool's path say, then never has
+        # rounding for a u term); each stage's own maximum velocity curve, found by
+        # Newton steps from the points' curve; the passes' terms; the velocity caps.
         contiguous = np.ascontiguousarray
-        slope_u, curve_x, at_point, at_points = _passes.channel_rows(
+        if extra is None:
+            nothing = np.zeros((delta.size, 0))
+            extra = Rows(nothing, nothing, nothing, nothing)
+        built = _passes.build_stages(
             contiguous(ascending), contiguous(rate_of), _bernstein(degree),
+            _bernstein(2 * degree),
             *(contiguous(side, dtype=float) for side in (vel_lo, vel_hi, acc_lo, acc_hi)),
-            _FLAT * scale)  # fmt: skip
-        low_b = np.broadcast_to(np.tile(acc_lo, degree + 1), slope_u.shape)
-        high_b = np.broadcast_to(np.tile(acc_hi, degree + 1), slope_u.shape)
-        threshold = np.full(slope_u.shape, _FLAT * scale)
-        self._scaled = np.ones(slope_u.shape[1], dtype=bool)
-        if extra is not None and extra.on_u.shape[1]:
-            # A further row is flat (bounds x alone) where its u term is negligible
-            # beside its x term (u and x compare as x ~ 2Δu) or beside that row's
-            # largest along the path. A row that is flat by construction (a direction
-            # across the tool's path, say) then never has rounding for a u term.
-            own = _FLAT_ROW * np.maximum(np.abs(extra.on_u).max(axis=0, keepdims=True),
-                                         np.abs(extra.on_x) * delta[:, None])  # fmt: skip
-            theirs = np.broadcast_to(own, extra.on_u.shape)
-            pairs = ((slope_u, extra.on_u), (curve_x, extra.on_x), (low_b, extra.lower),
-                     (high_b, extra.upper), (threshold, theirs))  # fmt: skip
-            slope_u, curve_x, low_b, high_b, threshold = (
-                np.concatenate(pair, axis=1) for pair in pairs
-            )
-            self._scaled = np.append(self._scaled, np.zeros(extra.on_u.shape[1], dtype=bool))
-        # Each stage's own maximum velocity curve: the largest x_i for which some u
-        # keeps every acceleration row of the interval, found by Newton steps from
-        # above. Only up to a few times the velocity cap matters; where even the
-        # points' curve is infinite (every channel still), pairs of rows give the start.
-        start = np.minimum(4.0 * at_point[:-1], at_points[:-1])
-        terms = (slope_u, curve_x, low_b, high_b, threshold)
-        slope_u, curve_x, low_b, high_b, threshold = (contiguous(t, dtype=float) for t in terms)
-        (valid, rate, high, low, stage_cap, self._grow, self._push, self._shrink, self._pull,
-         self._usable) = _passes.stage_setup(slope_u, curve_x, low_b, high_b, threshold, start,
-                                             delta, ROUNDING_RTOL)  # fmt: skip
-        self._rows = (valid, rate, high, low, slope_u, curve_x, low_b, high_b, threshold)
-        self.acceleration_cap = np.append(stage_cap, at_points[-1])
+            _FLAT * scale,
+            *(contiguous(part, dtype=float) for part in (extra.on_u, extra.on_x, extra.lower,
+                                                         extra.upper)),
+            _FLAT_ROW, delta, ROUNDING_RTOL)  # fmt: skip
+        self._rows = built[:9]
+        (self._grow, self._push, self._shrink, self._pull, self._usable, self.acceleration_cap,
+         self.velocity_cap) = built[9:]  # fmt: skip
+        self._scaled = np.arange(built[0].shape[1]) < (degree + 1) * slope.shape[2]
         self._exact = np.zeros(delta.size + 1, dtype=bool)
-        self.velocity_cap = self._rates_inside(ascending, at_point, vel_lo, vel_hi)
         self.corners = channels.corners
-
-    def _rates_inside(self, ascending: FloatArray, at_point: FloatArray, vel_lo: FloatArray,
-                      vel_hi: FloatArray) -> FloatArray:  # fmt: skip
-        """Velocity caps that keep the rates on the whole of every interval.
-
-        With ``x`` linear on an interval, ``ċ² = c'(τ)² ((1 - τ) x_i + τ x_{i+1})``. Let
-        ``w`` be the caps at the points and ``ρ`` the largest ratio of this rate² to its
-        bound when ``x = w`` at both ends (an upper bound, from the Bernstein
-        coefficients); then ``x <= w / ρ`` at both ends keeps the bound throughout.
-        ``ρ`` exceeds 1 by ``O(Δ²)`` where the caps vary smoothly.
-        """
-        degree = ascending.shape[0] - 1
-        w = np.minimum(at_point, self.acceleration_cap)
-        finite = np.isfinite(w)
-        if not finite.any():
-            return at_point
-        w = np.where(finite, w, w[finite].max())
-        # A cap far above its neighbours (where the path's tangent vanishes, at its
-        # end say) would make the interpolated rate between them huge and crush the
-        # neighbour's cap; no timing goes from one to the other within an interval.
-        w = np.minimum(w, 4.0 * np.minimum(np.append(w[1:], np.inf),
-                                           np.concatenate(([np.inf], w[:-1]))))  # fmt: skip
-        from trajkit.time_optimal import _passes
-
-        # The Bernstein coefficients of c'² times the linear x(τ) from w_i to w_{i+1}
-        # (degree elevation): coefficient c of 0..2K+1 is
-        # ((2K+1-c) g_c w_i + c g_{c-1} w_{i+1}) / (2K+1); over the side's bound squared.
-        contiguous = np.ascontiguousarray
-        rho = _passes.rate_ratios(
-            contiguous(ascending, dtype=float), contiguous(w, dtype=float),
-            contiguous(vel_lo, dtype=float), contiguous(vel_hi, dtype=float),
-            _bernstein(2 * degree), _bernstein(degree))  # fmt: skip
-        around = np.maximum(np.append(rho, 1.0), np.concatenate(([1.0], rho)))
-        return np.minimum(at_point, w / around)
 
     def caps(self, velocity_factor: FloatArray, acceleration_scale: FloatArray) -> FloatArray:
         """The maximum velocity curve (in x) with the limits tightened."""
