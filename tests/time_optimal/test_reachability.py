@@ -273,8 +273,8 @@ def problem():
 def test_optimal_x_is_what_topp_times():
     path, velocity, acceleration, limits = problem()
     s = grid_points(path.breakpoints, 150)
-    x, rounds, slow = optimal_x(path, s, velocity, acceleration, (0.2, 0.1))
-    assert (rounds, slow) == (1, 1.0)
+    x, rounds, slow, checks = optimal_x(path, s, velocity, acceleration, (0.2, 0.1))
+    assert (rounds, slow, checks) == (1, 1.0, [])
     assert x[0] == pytest.approx(0.04, rel=1e-12) and x[-1] == pytest.approx(0.01, rel=1e-12)
     ratio_v, ratio_a = interval_peaks(path, s, x, velocity, acceleration)
     assert ratio_v.max() <= 1 + 1e-9 and ratio_a.max() <= 1 + 1e-9

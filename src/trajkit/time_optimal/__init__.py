@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike
 from trajkit._validation import FloatArray, as_float_array, finite_result, finite_scalar
 from trajkit.curve import Segmented
 from trajkit.errors import InfeasibleError, InvalidInputError
-from trajkit.limits import Limits
+from trajkit.limits import Limits, Report
 from trajkit.time_optimal.constraints import (
     COLLOCATION,
     SAMPLES,
@@ -215,8 +215,8 @@ def topp(
         refuse_unheld(extra, polynomial.evaluate(points), points, points[rests])
     # Limits near the float64 range overflow in the solve; the result is checked below.
     with np.errstate(over="ignore", invalid="ignore"):
-        x, rounds, slow = optimal_x(polynomial, points, velocity, acceleration, speeds,
-                                    constraints=extra)  # fmt: skip
+        x, rounds, slow, checks = optimal_x(polynomial, points, velocity, acceleration, speeds,
+                                            constraints=extra)  # fmt: skip
     try:
         with np.errstate(all="ignore"):
             result = timed(polynomial, points, x)
@@ -231,8 +231,8 @@ def topp(
     info = {"planner": "topp", "continuity": 1, "grid_points": points,
             "path_speed": np.sqrt(x) / slow, "rounds": rounds, "slow_down": slow,
             "path_error": stray}  # fmt: skip
-    if extra:
-        info["constraint_checks"] = [limit.check(result) for limit in extra]
+    if extra:  # measured on the same timing in the last round (no slow-down with them)
+        info["constraint_checks"] = checks
     # The pieces were built from the path at its ends: their ends are the states.
     ends = rest_states(polynomial, points, speeds)
     return Trajectory._trusted(np.array(result.breakpoints), np.array(result.coefficients),
@@ -248,7 +248,7 @@ def optimal_x(
     stops: ArrayLike = (),
     constraints: tuple[PathLimit, ...] = (),
     ceiling: FloatArray | None = None,
-) -> tuple[FloatArray, int, float]:
+) -> tuple[FloatArray, int, float, list[Report]]:
     """``x = ṡ²`` at the grid points, tightened until the timed path keeps every limit.
 
     Parameters
@@ -278,6 +278,8 @@ def optimal_x(
     slow_down : float
         The uniform slow-down still needed (1 unless the local tightening did not
         converge).
+    checks : list of Report
+        The constraints' reports of the timing returned (empty without constraints).
     """
     channels = path_channels(path, s, velocity, acceleration)
     corners = np.union1d(channels.corners, np.asarray(stops, dtype=int))
@@ -296,9 +298,10 @@ def optimal_x(
         x = stages.solve(x_start, x_end, velocity_factor, acceleration_scale)
         ratio_v, ratio_a = interval_peaks(path, s, x, velocity, acceleration)
         over_v, over_a = ratio_v > 1.0 + LIMIT_RTOL, ratio_a > 1.0 + LIMIT_RTOL
-        passed = _tighten(constraints, bands, _timed_within(path, s, x)) if constraints else None
+        checks = _tighten(constraints, bands, _timed_within(path, s, x)) if constraints else []
+        passed = not all(check.ok for check in checks)
         if not (over_v.any() or over_a.any() or passed):
-            return x, rounds, 1.0
+            return x, rounds, 1.0, checks
         if passed:
             stages = Stages(channels, _rows(constraints, bands, states, s))
         acceleration_scale[over_a] /= ratio_a[over_a] * (1.0 + _MARGIN)
@@ -313,8 +316,7 @@ def optimal_x(
             wanted = target / stages.velocity_cap
         velocity_factor = np.minimum(velocity_factor, np.where(np.isnan(wanted), np.inf, wanted))
     if constraints:
-        timing = timed(path, s, x)
-        missed = [str(v) for limit in constraints for v in limit.check(timing).violations]
+        missed = [str(v) for check in checks for v in check.violations]
         raise InfeasibleError(
             f"no timing on this grid keeps the torque and tool limits after {_ROUNDS} "
             f"rounds of tightening: {'; '.join(missed) or 'rounding at the bounds'}; try "
@@ -325,7 +327,8 @@ def optimal_x(
             "the timing could not be made to keep every limit between grid points with "
             "non-zero boundary speeds: use a finer grid or lower boundary speeds"
         )
-    return x, _ROUNDS, float(max(ratio_v.max(), np.sqrt(ratio_a.max()), 1.0) * (1 + ROUNDING_RTOL))
+    slow = float(max(ratio_v.max(), np.sqrt(ratio_a.max()), 1.0) * (1 + ROUNDING_RTOL))
+    return x, _ROUNDS, slow, checks
 
 
 def _timed_within(path: Trajectory, s: FloatArray, x: FloatArray) -> Trajectory:
@@ -391,17 +394,24 @@ def _tighten(
     constraints: tuple[PathLimit, ...],
     bands: list[_Band],
     timing: Trajectory,
-) -> bool:
-    """Move each interval's bands in by what its timed piece passed them; True if any did.
+) -> list[Report]:
+    """Measure ``timing`` against each constraint, and move in the bands it passed.
+
+    Returns each constraint's :class:`~trajkit.Report` of ``timing`` (the same as
+    ``check``'s): where one is not ok, its bands moved.
 
     The bound of an interval also rests on its neighbours' timing, and along a
     stretch at the bound an excess may move on to the next interval each round: from
     the second round on, every interval's side also moves in by the largest excess
     of that component (a few 1e-6 of the bound, by then).
     """
-    passed = False
+    reports = []
     for limit, band in zip(constraints, bands, strict=True):
-        high, low, _, _ = measure(limit, timing, SAMPLES)
+        measured = measure(limit, timing, SAMPLES)
+        reports.append(limit.report(measured))
+        if reports[-1].ok:
+            continue
+        high, low = measured[:2]
         bound_lo, bound_hi = limit.bounds()
         size = np.maximum(np.abs(np.where(np.isfinite(bound_lo), bound_lo, 0.0)),
                           np.abs(np.where(np.isfinite(bound_hi), bound_hi, 0.0)))  # fmt: skip
@@ -409,8 +419,7 @@ def _tighten(
         over_lo = bound_lo - low
         slack = LIMIT_RTOL * size
         hit_hi, hit_lo = over_hi > slack, over_lo > slack
-        if hit_hi.any() or hit_lo.any():
-            passed = True
+        if hit_hi.any() or hit_lo.any():  # as the report says (the same rule as compare)
             # In by the excess and a little more (_INSIDE of the bound), so that the
             # neighbours' re-timing rarely needs another round.
             inside = slack + _INSIDE * size
@@ -420,7 +429,7 @@ def _tighten(
                 band.upper -= np.where(hit_hi.any(axis=0), np.maximum(over_hi, 0).max(axis=0), 0)
                 band.lower += np.where(hit_lo.any(axis=0), np.maximum(over_lo, 0).max(axis=0), 0)
             band.rounds += 1
-    return passed
+    return reports
 
 
 def path_channels(

@@ -71,7 +71,7 @@ class PathLimit:
         raise NotImplementedError
 
     def bounds(self) -> tuple[FloatArray, FloatArray]:
-        """``(lower, upper)`` per component, in :attr:`unit`; ``-inf`` where unbounded."""
+        """``(lower, upper)`` per component, in its unit; ``-inf`` where unbounded."""
         raise NotImplementedError
 
     def rows(
@@ -113,7 +113,11 @@ class PathLimit:
             )
         if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
             raise InvalidInputError(f"samples must be a whole number >= 2, got {samples!r}")
-        high, low, when_high, when_low = measure(self, trajectory, int(samples))
+        return self.report(measure(self, trajectory, int(samples)))
+
+    def report(self, measured: tuple[FloatArray, ...]) -> Report:
+        """The :class:`~trajkit.Report` of a measure (:func:`measure`'s four arrays)."""
+        high, low, when_high, when_low = measured
         lower, upper = self.bounds()
         violations: list[Violation] = []
         peaks, bounds, channels = {}, {}, {}
@@ -331,7 +335,8 @@ class ToolLimit(PathLimit):
                 parts.append((0.0 * b, b, 0.0 * b, np.full_like(b, -np.inf), bound**2))
             else:
                 parts.append(self._acceleration_rows(jacobian, q, dq, ddq, tangent, bound))
-        return tuple(np.column_stack([np.atleast_2d(p[i].T).T for p in parts])
+        # Each part's terms are a column (speeds) or a block of columns (directions).
+        return tuple(np.column_stack([part[i] for part in parts])
                      for i in range(5))  # type: ignore[return-value]  # fmt: skip
 
     def _acceleration_rows(

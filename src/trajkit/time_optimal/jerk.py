@@ -91,7 +91,7 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
     if max(speeds) > 0.0:
         return _moving_ends(path, s, (velocity, acceleration, jerk), rests, stray, speeds)
     stops = np.searchsorted(s, rests)
-    x, rounds, _ = optimal_x(path, s, velocity, acceleration, stops=stops)
+    x, rounds, _, _ = optimal_x(path, s, velocity, acceleration, stops=stops)
     speed, durations, u = phases(s, x)
     # One rest-to-rest segment between consecutive stops.
     edges = np.union1d([0, s.size - 1], stops)
@@ -196,7 +196,7 @@ def _held_ends(
     ceiling[held_start] = speeds[0] ** 2
     ceiling[held_end] = speeds[1] ** 2
     stops = np.searchsorted(grid, rests)
-    x, _, _ = optimal_x(path, grid, *bounds, speeds, stops=stops, ceiling=ceiling)
+    x, _, _, _ = optimal_x(path, grid, *bounds, speeds, stops=stops, ceiling=ceiling)
     for held, speed in ((held_start, speeds[0]), (held_end, speeds[1])):
         if np.any(x[held] < speed**2 * (1.0 - 1e-9)):
             raise InfeasibleError(f"the end speed {speed:g} cannot be held for the jerk "
