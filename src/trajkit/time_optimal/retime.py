@@ -100,27 +100,28 @@ def blended_path(
     ell = np.minimum(reach, half)
     # Straight on, no blend is needed; one too short for float64 to place is no blend.
     ell = np.where((turn > 1e-12) & (ell > _SHORTEST * corner_s[-1]), ell, 0.0)
-    # Pieces: for each segment its straight middle, and at each blended corner two halves.
-    breaks, coefficients = [0.0], []
-    for k in range(distinct.shape[0] - 1):
-        before = ell[k - 1] if k > 0 else 0.0
-        after = ell[k] if k < ell.size else 0.0
-        start_s, end_s = corner_s[k] + before, corner_s[k + 1] - after
-        if end_s > start_s:
-            coefficients.append((np.zeros_like(direction[k]), direction[k],
-                                 distinct[k] + before * direction[k]))  # fmt: skip
-            breaks.append(end_s)
-        if k < ell.size and ell[k] > 0.0:
-            curve = (direction[k + 1] - direction[k]) / (2.0 * ell[k])  # q''
-            corner = distinct[k + 1]
-            entry = corner - ell[k] * direction[k]
-            middle = corner + ell[k] * (direction[k + 1] - direction[k]) / 4.0
-            slope_mid = (direction[k] + direction[k + 1]) / 2.0
-            coefficients.append((curve / 2.0, direction[k], entry))
-            coefficients.append((curve / 2.0, slope_mid, middle))
-            breaks += [corner_s[k + 1], corner_s[k + 1] + ell[k]]
+    # Three slots a segment: its straight middle, then the two halves of the blend at
+    # its end (none after the last segment, nor where a corner is not blended).
+    segments, ndof = direction.shape
+    before = np.concatenate([[0.0], ell])[:, None]  # blend lengths at each segment's ends
+    after = np.concatenate([ell, [0.0]])
+    following = np.concatenate([direction[1:], np.zeros((1, ndof))])
+    turning = following - direction
+    with np.errstate(divide="ignore", invalid="ignore"):
+        curve = np.where(after[:, None] > 0, turning / (2.0 * after[:, None]), 0.0)  # q''
+    half_curve = curve / 2.0
+    corner = distinct[1:]
+    slots = np.zeros((segments, 3, 3, ndof))  # (segment, slot, power 2..0, joint)
+    slots[:, 0, 1], slots[:, 0, 2] = direction, distinct[:-1] + before * direction
+    slots[:, 1:, 0] = half_curve[:, None]
+    slots[:, 1, 1], slots[:, 1, 2] = direction, corner - after[:, None] * direction
+    slots[:, 2, 1] = (direction + following) / 2.0
+    slots[:, 2, 2] = corner + after[:, None] * turning / 4.0  # the blend's middle
+    ends = np.stack([corner_s[1:] - after, corner_s[1:], corner_s[1:] + after], axis=1)
+    used = np.stack([ends[:, 0] > corner_s[:-1] + before[:, 0], after > 0, after > 0], axis=1)
+    breaks = np.concatenate([[0.0], ends[used]])
     # (pieces, 3, ndof) as (3, pieces, ndof): highest power first.
-    path = Trajectory(np.array(breaks), np.array(coefficients).transpose(1, 0, 2))
+    path = Trajectory(breaks, slots[used].transpose(1, 0, 2))
     deviation_distinct = np.concatenate([[0.0], ell * turn / 4.0, [0.0]])
     # Each input waypoint takes the s and deviation of the distinct point it merged into.
     owner = np.cumsum(np.concatenate([[True], moving])) - 1
