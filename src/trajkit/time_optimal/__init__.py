@@ -315,12 +315,12 @@ def optimal_x(
         with np.errstate(divide="ignore", invalid="ignore"):
             wanted = target / stages.velocity_cap
         velocity_factor = np.minimum(velocity_factor, np.where(np.isnan(wanted), np.inf, wanted))
-    if constraints:
+    if constraints:  # no uniform slow-down: it would not keep gravity's share of a torque
         missed = [str(v) for check in checks for v in check.violations]
+        what = "; ".join(missed) or "the joint limits were still passed between grid points"
         raise InfeasibleError(
             f"no timing on this grid keeps the torque and tool limits after {_ROUNDS} "
-            f"rounds of tightening: {'; '.join(missed) or 'rounding at the bounds'}; try "
-            "another grid"
+            f"rounds of tightening: {what}; try another grid"
         )
     if x_start > 0.0 or x_end > 0.0:
         raise InfeasibleError(
