@@ -171,19 +171,27 @@ def _rate_cap(slope, lower, upper, threshold):  # pragma: no cover
 
 
 @njit(cache=True)
+def _on_u(slope, curve, lower, upper, threshold):  # pragma: no cover
+    """``lower <= slope u + curve x <= upper`` as ``lo + r x <= u <= hi + r x``.
+
+    Returns ``(valid, r, hi, lo)``; a row whose u term does not pass ``threshold`` is
+    not valid (``r = 0``, no bound on u).
+    """
+    if not abs(slope) > threshold:
+        return False, 0.0, np.inf, -np.inf
+    top, bottom = (upper, lower) if slope > 0.0 else (lower, upper)
+    return True, -curve / slope, top / slope, bottom / slope
+
+
+@njit(cache=True)
 def _point_curve(first, second, acc_lo, acc_hi, threshold):  # pragma: no cover
     """The maximum velocity curve of the acceleration rows at one point alone."""
     m = first.size
     valid = np.empty(m, dtype=np.bool_)
     rate, high, low = np.empty(m), np.empty(m), np.empty(m)
     for j in range(m):
-        valid[j] = abs(first[j]) > threshold
-        if valid[j]:
-            rate[j] = -second[j] / first[j]
-            top, bottom = (acc_hi[j], acc_lo[j]) if first[j] > 0.0 else (acc_lo[j], acc_hi[j])
-            high[j], low[j] = top / first[j], bottom / first[j]
-        else:
-            rate[j], high[j], low[j] = 0.0, np.inf, -np.inf
+        valid[j], rate[j], high[j], low[j] = _on_u(first[j], second[j], acc_lo[j], acc_hi[j],
+                                                   threshold)  # fmt: skip
     return _one_curve(valid, rate, high, low, first, second, acc_lo, acc_hi,
                       np.full(m, threshold))  # fmt: skip
 
@@ -293,14 +301,9 @@ def stage_setup(on_u, on_x, lower, upper, threshold, start, delta, rounding):  #
         flat = np.inf
         for j in range(rows):
             slope, curve = on_u[i, j], on_x[i, j]
-            valid[i, j] = abs(slope) > threshold[i, j]
-            if valid[i, j]:
-                top, bottom = upper[i, j], lower[i, j]
-                if slope < 0.0:
-                    top, bottom = bottom, top
-                high[i, j], low[i, j], rate[i, j] = top / slope, bottom / slope, -curve / slope
-            else:
-                high[i, j], low[i, j], rate[i, j] = np.inf, -np.inf, 0.0
+            valid[i, j], rate[i, j], high[i, j], low[i, j] = _on_u(
+                slope, curve, lower[i, j], upper[i, j], threshold[i, j])  # fmt: skip
+            if not valid[i, j]:
                 # A flat row bounds x alone: x <= bound / on_x on the side on_x points to.
                 bound = np.inf
                 if curve > 0.0:
