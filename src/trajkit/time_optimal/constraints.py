@@ -332,7 +332,8 @@ class ToolLimit(PathLimit):
                 # |v|² = |p'|² x: a bound on x at each point, squared.
                 rate = tangent[:, :3] if kind == "speed" else tangent[:, 3:]
                 b = (rate**2).sum(axis=1)
-                parts.append((0.0 * b, b, 0.0 * b, np.full_like(b, -np.inf), bound**2))
+                none = np.zeros_like(b)
+                parts.append((none, b, none, np.full_like(b, -np.inf), bound**2))
             else:
                 parts.append(self._acceleration_rows(jacobian, q, dq, ddq, tangent, bound))
         # Each part's terms are a column (speeds) or a block of columns (directions).
@@ -361,7 +362,7 @@ class ToolLimit(PathLimit):
         on_u = np.einsum("nkd,nd->nk", directions, linear)
         on_x = np.einsum("nkd,nd->nk", directions, curve)
         high = np.repeat((bound * np.cos(np.pi / _DIRECTIONS))[:, None], _DIRECTIONS, axis=1)
-        return on_u, on_x, 0.0 * on_u, np.full_like(on_u, -np.inf), high
+        return on_u, on_x, np.zeros_like(on_u), np.full_like(on_u, -np.inf), high
 
     def _linear_acceleration(self, jacobian: FloatArray, q: FloatArray, rate: FloatArray,
                              second: FloatArray) -> FloatArray:  # fmt: skip
