@@ -1360,3 +1360,21 @@ def test_continuity_is_the_first_order_whose_jumps_do_not_vanish(tr: Trajectory)
     orders = range(tr.degree + 1) if measured == np.inf else range(int(measured) + 2)
     for order in orders:
         assert tr.jumps(order).any() == (order == measured + 1), order
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 5), st.integers(0, 5), st.integers(0, 2**32 - 1))
+def test_end_positions_are_those_evaluate_gives(pieces, degree, seed):
+    # The planners' shortcut must give evaluate's values, the stored boundary states
+    # (where given) included.
+    rng = np.random.default_rng(seed)
+    breakpoints = np.cumsum(np.r_[rng.uniform(-1, 1), rng.uniform(0.1, 2.0, pieces)])
+    coefficients = rng.normal(size=(degree + 1, pieces, 3))
+    plain = tk.Trajectory(breakpoints, coefficients)
+    ends = plain.evaluate(plain.breakpoints[[0, -1]])
+    start = np.array([ends[0] + np.array([1e-12, np.nan, 0.0])])
+    end = np.array([ends[1] - 1e-12])
+    stated = tk.Trajectory(breakpoints, coefficients, start=start, end=end)
+    for path in (plain, stated):
+        np.testing.assert_array_equal(path._end_positions(),
+                                      path.evaluate([path.start_time, path.end_time]))  # fmt: skip

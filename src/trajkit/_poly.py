@@ -35,8 +35,10 @@ def derivative(c: FloatArray, order: int = 1) -> FloatArray:
 
 def horner(c: FloatArray, x: FloatArray) -> FloatArray:
     """Evaluate every polynomial of ``c`` at ``x`` (broadcast against ``c[0]``)."""
-    result = np.broadcast_to(c[0], np.broadcast_shapes(c.shape[1:], np.shape(x))).copy()
-    for coefficient in c[1:]:
+    if c.shape[0] == 1:
+        return np.broadcast_to(c[0], np.broadcast_shapes(c.shape[1:], np.shape(x))).copy()
+    result = c[0] * x + c[1]  # a new array of the broadcast shape, at less call cost
+    for coefficient in c[2:]:
         result *= x
         result += coefficient
     return result

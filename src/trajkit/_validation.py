@@ -28,6 +28,7 @@ value was wrong and what rule it broke.
 
 from __future__ import annotations
 
+import math
 import numbers
 from collections.abc import Mapping
 from typing import Any
@@ -165,7 +166,7 @@ def finite_array(name: str, value: ArrayLike, *, unit: str = "") -> FloatArray:
     result may share memory with ``value``: callers that keep it copy it.
     """
     array = as_float_array(name, value)
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         unit_text = f" {unit}" if unit else ""
         raise InvalidInputError(f"{name} must be finite, got {_describe(array)}{unit_text}")
     return array
@@ -173,6 +174,8 @@ def finite_array(name: str, value: ArrayLike, *, unit: str = "") -> FloatArray:
 
 def finite_scalar(name: str, value: Any, *, unit: str = "") -> float:
     """Return ``value`` as a finite float."""
+    if type(value) is float and math.isfinite(value):  # the common case, kept fast
+        return value
     array = finite_array(name, value, unit=unit)
     if array.ndim != 0:
         raise InvalidInputError(f"{name} must be a single number, got shape {array.shape}")

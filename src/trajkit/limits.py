@@ -51,7 +51,7 @@ class Bounds:
                 raise InvalidInputError(
                     f"{name} {side} bounds give {value.size} joints but the trajectory has {ndof}"
                 )
-            out.append(np.broadcast_to(value, (ndof,)))
+            out.append(value if value.ndim == 1 else np.full(ndof, value))
         return out[0], out[1]
 
 

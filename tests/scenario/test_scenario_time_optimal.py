@@ -111,12 +111,32 @@ def test_torque_limits_in_n_m_per_joint_and_the_tool_acceleration():
          "task.duration: not used with law = 'time_optimal'"),
         (LINE, ('law = "time_optimal"', 'law = "cubic"\nduration = 2'),
          "limits.tool_speed: only kept by a time-optimal timing"),
+        (WAYPOINTS, ("torque = true", "torque = true\njmax_deg = 9000"),
+         "limits.jmax: a time-optimal retiming of waypoints keeps velocity"),
     ],
 )  # fmt: skip
 def test_refusals_name_the_key(text, change, message):
     with pytest.raises(ScenarioError) as caught:
         scenario.parse(text.replace(*change))
     assert message in str(caught.value)
+
+
+def test_a_jerk_limited_time_optimal_line_keeps_its_tool_speed_and_jerk(tmp_path):
+    text = LINE.replace("tool_speed = 0.25", "tool_speed = 0.25\njmax_deg = 3600\ntorque = true")
+    path = tmp_path / "smooth_line.toml"
+    path.write_text(text, encoding="utf-8")
+    outcome = scenario.run(path, tmp_path / "out", log=lambda line: None)
+    plan = outcome.plan
+    assert plan.info["jerk_limited"] and outcome.report.ok
+    assert plan.check(tk.Limits(velocity=np.pi, acceleration=2 * np.pi,
+                                jerk=np.radians(3600))).ok  # fmt: skip
+    for limit in (tk.ToolLimit(UR5(), speed=0.25), tk.TorqueLimit(UR5())):
+        assert limit.check(plan).ok
+    t = np.linspace(0, plan.end_time, 20001)
+    speed = np.linalg.norm(np.einsum("nkj,nj->nk", UR5().jacobian(plan(t))[:, :3],
+                                     plan.velocity(t)), axis=1)  # fmt: skip
+    assert speed.max() <= 0.25 * (1 + 1e-9)
+    np.testing.assert_allclose(plan.acceleration([0.0, plan.end_time]), 0.0, atol=1e-9)
 
 
 def test_gravity_beyond_the_torque_limit_is_a_one_line_error(tmp_path, capsys):

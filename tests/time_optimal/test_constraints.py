@@ -210,6 +210,68 @@ def test_torque_and_tool_limits_together():
     assert list(timed.info["constraint_checks"][1].peaks) == ["tool speed", "tool acceleration"]
 
 
+# ------------------------------------------------------------------- with a jerk bound
+
+
+@settings(max_examples=12, deadline=None)
+@given(problem=torque_problems(), grid=st.integers(40, 200), speed=st.floats(0.2, 3.0),
+       jerk=st.floats(20.0, 500.0), start=st.sampled_from([0.0, 0.0, 0.02, 0.1]),
+       end=st.sampled_from([0.0, 0.05]))  # fmt: skip
+def test_property_jerk_limited_timing_keeps_torque_and_tool_limits(problem, grid, speed, jerk,
+                                                                   start, end):  # fmt: skip
+    path, limits, torque_limit = problem
+    limits = tk.Limits(velocity=limits.velocity.upper, acceleration=limits.acceleration.upper,
+                       jerk=jerk)  # fmt: skip
+    both = [torque_limit, ToolLimit(torque_limit.chain, speed=speed)]
+    try:
+        timed = tk.topp(path, limits, grid=grid, constraints=both, start_speed=start,
+                        end_speed=end)  # fmt: skip
+    except InfeasibleError as exc:  # moving ends the limits cannot hold: said by name
+        assert start or end
+        assert "speed" in str(exc)
+        return
+    assert timed.info["jerk_limited"]
+    assert timed.check(limits).ok  # velocity, acceleration and jerk, exactly
+    for limit in both:
+        assert dense_ratio(limit, timed).max() <= 1.0 + ROUNDING
+    assert [c.ok for c in timed.info["constraint_checks"]] == [True, True]
+    # The ends: the path's own positions, its tangent at the asked speeds, no acceleration.
+    for t, s, speed_at in ((0.0, 0.0, start), (timed.end_time, 1.0, end)):
+        np.testing.assert_allclose(timed(t), path(s), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(timed.velocity(t), path.velocity(s) * speed_at, rtol=0,
+                                   atol=1e-9)  # fmt: skip
+        np.testing.assert_allclose(timed.acceleration(t), 0.0, atol=1e-9)
+
+
+def test_a_jerk_limited_ur5_move_keeps_its_torque_and_tool_speed():
+    arm = UR5()
+    path = spline(1, 6, spread=1.2)
+    limits = tk.Limits(velocity=np.pi, acceleration=40.0, jerk=400.0)
+    both = [TorqueLimit(arm), ToolLimit(arm, speed=1.0)]
+    free = tk.topp(path, limits, grid=150)
+    timed = tk.topp(path, limits, grid=150, constraints=both)
+    assert max(dense_ratio(limit, free).max() for limit in both) > 1.05  # they bind
+    for limit in both:
+        assert dense_ratio(limit, timed).max() <= 1.0 + ROUNDING
+    assert timed.check(limits).ok and timed.info["jerk_limited"]
+    assert timed.duration > free.duration
+
+
+def test_a_jerk_limited_timing_refuses_a_rest_the_arm_cannot_hold():
+    # Gravity alone passes the limit on the way: refused by name before any smoothing.
+    chain, inertials = TWO_LINK, TWO_LINK_INERTIALS
+    path = tk.Trajectory([0.0, 0.5, 1.0], np.array([[[0.0, 0.0], [0.0, 0.0]],
+                                                    [[1.0, 0.4], [1.0, 0.4]],
+                                                    [[0.0, 0.0], [0.5, 0.2]]]))  # fmt: skip
+    hold = TorqueLimit(chain, 1e6, inertials=inertials, gravity=GRAVITY_Y).holding(
+        path(np.array([0.0, 0.5, 1.0])))  # fmt: skip
+    limit = TorqueLimit(chain, float(np.abs(hold).max()) * 0.999, inertials=inertials,
+                        gravity=GRAVITY_Y)  # fmt: skip
+    limits = tk.Limits(velocity=1.0, acceleration=5.0, jerk=50.0)
+    with pytest.raises(InfeasibleError, match="gravity alone"):
+        tk.topp(path, limits, constraints=limit)
+
+
 # --------------------------------------------------------------------------- check
 
 
@@ -322,8 +384,6 @@ def test_bad_constraints_in_topp():
         tk.topp(path, LIMITS, constraints=3.0)
     with pytest.raises(InvalidInputError, match="has 6 joints but the path has 2"):
         tk.topp(path, LIMITS, constraints=ToolLimit(UR5(), speed=1.0))
-    with pytest.raises(InvalidInputError, match="not combined with a jerk bound"):
-        tk.topp(path, tk.Limits(velocity=1, acceleration=2, jerk=10), constraints=torque())
 
 
 def test_bad_check_arguments():

@@ -257,6 +257,85 @@ def test_grid_points_merge_a_breakpoint_a_hair_from_a_uniform_point():
     assert end.size == 4 and end[-1] == 1.0
 
 
+def test_a_grid_point_a_hair_after_the_start_does_not_move_the_start():
+    # It was kept in place of the start: the timing then began 1e-14 along the path.
+    np.testing.assert_array_equal(grid_points(np.array([0.0, 1.0]), [0.0, 1e-14, 0.5, 1.0]),
+                                  [0.0, 0.5, 1.0])  # fmt: skip
+    path = tk.cubic_spline([0, 1], [[0.0, 1.0], [1.0, -1.0]], bc="clamped")
+    timed = tk.topp(path, tk.Limits(velocity=1.0, acceleration=1.0), grid=[0.0, 1e-14, 0.5, 1.0])
+    assert timed.info["grid_points"][0] == 0.0
+    np.testing.assert_array_equal(timed.evaluate(0.0), [0.0, 1.0])
+
+
+def plain_grid(breakpoints, points, close, split=4):
+    """The grid by its definition: union, merge of close points (the grid ends with
+    the path, and starts with it unless a breakpoint took its place), split of the
+    intervals between two breakpoints."""
+    union = np.union1d(points, breakpoints)
+    out = union[np.append(np.diff(union) > close, True)]
+    out[-1] = breakpoints[-1]
+    if out[0] not in breakpoints:
+        out[0] = breakpoints[0]
+    both = np.flatnonzero(np.isin(out[:-1], breakpoints) & np.isin(out[1:], breakpoints))
+    inner = out[both, None] + np.diff(out)[both, None] * (np.arange(1, split) / split)
+    return np.union1d(out, inner.ravel())
+
+
+@st.composite
+def breakpoints_and_grids(draw):
+    span = draw(st.sampled_from([1.0, 3.7, 1e-3, 250.0]))
+    inner = draw(st.lists(st.floats(0.0, 1.0), max_size=6))
+    if draw(st.booleans()):  # breakpoints on or a hair from round numbers
+        inner = [round(v, 1) + draw(st.sampled_from([0.0, 1e-14, -1e-15])) for v in inner]
+    breakpoints = np.unique(np.clip(np.concatenate([[0.0, 1.0], inner]), 0.0, 1.0)) * span
+    if draw(st.booleans()):
+        return breakpoints, draw(st.integers(2, 60))
+    chosen = draw(st.lists(st.floats(0.0, 1.0, exclude_min=True, exclude_max=True),
+                           min_size=1, max_size=30))  # fmt: skip
+    return breakpoints, np.unique(np.concatenate([[0.0, 0.5, 1.0], chosen]) * span)
+
+
+@settings(max_examples=300, deadline=None)
+@given(breakpoints_and_grids())
+def test_grid_points_equal_their_definition(case):
+    breakpoints, grid = case
+    s = grid_points(breakpoints, grid)
+    points = grid
+    if isinstance(grid, int):
+        points = np.linspace(breakpoints[0], breakpoints[-1], grid + 1)
+    close = 1e-12 * (breakpoints[-1] - breakpoints[0])  # ROUNDING_RTOL of the span
+    np.testing.assert_array_equal(s, plain_grid(breakpoints, points, close))
+    assert np.all(np.diff(s) > 0) and s[-1] == breakpoints[-1]
+    assert s[0] == breakpoints[0] or s[0] in breakpoints
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, 5), st.integers(0, 6), st.integers(1, 3), st.integers(0, 2**32 - 1))
+def test_breakpoint_steps_equal_the_pieces_own_values(pieces, degree, ndof, seed):
+    # The jump of each derivative, from the pieces' values at both sides (Trajectory's
+    # own evaluation of each piece), zeroed within 1e-9 of the largest value.
+    rng = np.random.default_rng(seed)
+    breakpoints = np.cumsum(np.r_[0.0, rng.uniform(0.1, 2.0, pieces)])
+    coefficients = rng.normal(size=(degree + 1, pieces, ndof)) * 10.0 ** rng.integers(-3, 4)
+    if pieces > 1 and rng.random() < 0.5:  # some joints continuous at some breakpoints
+        path = tk.Trajectory(breakpoints, coefficients)
+        ends = path.evaluate(np.nextafter(breakpoints[1:-1], -np.inf))
+        coefficients[-1, 1:] = np.where(rng.random((pieces - 1, ndof)) < 0.5, ends,
+                                        coefficients[-1, 1:])  # fmt: skip
+    path = tk.Trajectory(breakpoints, coefficients)
+    for order in range(4):
+        derivative = path.derivative(order) if order else path
+        c = derivative.coefficients
+        ends = np.array([np.polyval(c[:, p], breakpoints[p + 1] - breakpoints[p])
+                         for p in range(pieces)])  # fmt: skip
+        scale = max(np.abs(c[-1]).max(), np.abs(ends[-1]).max(), 1.0)
+        expected = c[-1, 1:] - ends[:-1]
+        expected[np.abs(expected) <= 1e-9 * scale] = 0.0
+        got = time_optimal.breakpoint_steps(path, order)
+        np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12 * scale)
+        assert np.array_equal(got != 0, expected != 0) or np.allclose(got, expected)
+
+
 # ------------------------------------------------ optimal_x, its rounds and slow-down
 
 

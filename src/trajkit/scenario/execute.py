@@ -284,8 +284,9 @@ def _arm_plan(scenario: Scenario, robot: SerialChain, lines: list[str]) -> tuple
 
 
 def _timing_limits(scenario: Scenario) -> tk.Limits:
-    """The joint velocity and acceleration bounds a time-optimal timing keeps."""
-    return tk.Limits(velocity=scenario.limits["vmax"], acceleration=scenario.limits["amax"])
+    """The joint velocity, acceleration and (a line's) jerk bounds a time-optimal timing keeps."""
+    limits = scenario.limits
+    return tk.Limits(velocity=limits["vmax"], acceleration=limits["amax"], jerk=limits.get("jmax"))
 
 
 def _path_limits(scenario: Scenario, robot: SerialChain | None) -> list[Any]:

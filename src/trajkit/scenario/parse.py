@@ -401,7 +401,15 @@ def _timing_grid(table: Table) -> int:
 
 
 def _check_timing_limits(limits: dict[str, Any], task: dict[str, Any], robot: dict) -> None:
-    """Torque and tool limits are kept by a time-optimal timing only, of a robot."""
+    """Where torque, tool and jerk limits are kept.
+
+    Torque and tool limits by a time-optimal timing only, of a robot; a jerk limit by a
+    time-optimal line's, not by a waypoint list's retiming.
+    """
+    if task.get("time_optimal") and task.get("kind") == "waypoints" and "jmax" in limits:
+        raise ScenarioError("limits.jmax: a time-optimal retiming of waypoints keeps velocity "
+                            "and acceleration (and torque and tool) limits, not jerk: remove "
+                            "jmax, or use timing = 'blended'")  # fmt: skip
     given = [key for key in ("torque", *TOOL_LIMITS) if key in limits]
     if not given:
         return

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
+from functools import cache
 from math import comb
 from types import MappingProxyType
 
@@ -50,7 +51,6 @@ from trajkit.time_optimal.timing import (
     GeometricPath,
     as_polynomial,
     interval_peaks,
-    pieces_of,
     rest_states,
     timed,
 )
@@ -122,7 +122,9 @@ def topp(
         are kept at the ends and middle of every grid interval and then measured
         on 16 samples of every timed piece with a curvature margin (see
         :mod:`trajkit.time_optimal.constraints`); an interval that passes is
-        tightened and solved again. Not combined with a jerk bound.
+        tightened and solved again. With a jerk bound they are measured on the
+        smoothed timing and, where it passes one, tightened everywhere along the path
+        and the timing made again (see :mod:`trajkit.time_optimal.jerk`).
 
     Returns
     -------
@@ -136,7 +138,8 @@ def topp(
         With a jerk bound the pieces are those of the smoothed timing (three times
         the path's degree, about two per grid interval) and ``info`` holds
         ``jerk_limited``, ``grid_points``, ``rests`` (where it stops), ``windows``
-        (the averaging window of each stretch, s), ``rounds`` and ``path_error``.
+        (the averaging window of each stretch, s), ``rounds``, ``path_error`` and,
+        with ``constraints``, ``constraint_checks``.
 
     Raises
     ------
@@ -175,7 +178,7 @@ def topp(
         )
     points = grid_points(np.asarray(path.breakpoints, dtype=float), grid)
     polynomial, stray = as_polynomial(path, points)
-    steps = polynomial.jumps(0)
+    steps = breakpoint_steps(polynomial, 0)
     if steps.any():  # timed, it would jump too, with its info claiming C1
         i, j = (int(k[0]) for k in np.nonzero(steps))
         where = float(polynomial.breakpoints[i + 1])
@@ -200,19 +203,16 @@ def topp(
     velocity = _sides(limits, "velocity", ndof)
     acceleration = _sides(limits, "acceleration", ndof)
     extra = checked_limits(constraints, ndof)
-    if extra and limits.jerk is not None:
-        raise InvalidInputError(
-            "torque and tool limits are not combined with a jerk bound: pass limits "
-            "without jerk, or no constraints"
-        )
+    if extra:  # where gravity alone passes a torque limit, no timing is found: say so
+        ends = [i for i, speed in zip((0, points.size - 1), speeds, strict=True) if speed == 0]
+        # The path rests where its tangent jumps; jerk-limited, where its curvature does too.
+        stops = [jumps(polynomial, order) for order in (1, 2)[: 1 + (limits.jerk is not None)]]
+        rests = np.union1d(ends, np.searchsorted(points, np.concatenate(stops))).astype(int)
+        refuse_unheld(extra, polynomial.evaluate(points), points, points[rests])
     if limits.jerk is not None:
         from trajkit.time_optimal.jerk import smoothed
 
-        return smoothed(polynomial, points, limits, stray, speeds)
-    if extra:  # where gravity alone passes a torque limit, no timing is found: say so
-        ends = [i for i, speed in zip((0, points.size - 1), speeds, strict=True) if speed == 0]
-        rests = np.union1d(ends, np.searchsorted(points, jumps(polynomial, 1))).astype(int)
-        refuse_unheld(extra, polynomial.evaluate(points), points, points[rests])
+        return smoothed(polynomial, points, limits, stray, speeds, extra)
     # Limits near the float64 range overflow in the solve; the result is checked below.
     with np.errstate(over="ignore", invalid="ignore"):
         x, rounds, slow, checks = optimal_x(polynomial, points, velocity, acceleration, speeds,
@@ -235,8 +235,9 @@ def topp(
         info["constraint_checks"] = checks
     # The pieces were built from the path at its ends: their ends are the states.
     ends = rest_states(polynomial, points, speeds)
-    return Trajectory._trusted(np.array(result.breakpoints), np.array(result.coefficients),
-                               MappingProxyType(info), ends["end"], ends["start"])  # fmt: skip
+    # The timed pieces are this function's own: the result takes them over, not a copy.
+    return Trajectory._trusted(result.breakpoints, result.coefficients, MappingProxyType(info),
+                               ends["end"], ends["start"])  # fmt: skip
 
 
 def optimal_x(
@@ -248,6 +249,7 @@ def optimal_x(
     stops: ArrayLike = (),
     constraints: tuple[PathLimit, ...] = (),
     ceiling: FloatArray | None = None,
+    bands: list[_Band] | None = None,
 ) -> tuple[FloatArray, int, float, list[Report]]:
     """``x = ṡ²`` at the grid points, tightened until the timed path keeps every limit.
 
@@ -268,6 +270,10 @@ def optimal_x(
         interval until kept; no uniform slow-down with them.
     ceiling : ndarray, shape (N + 1,), optional
         The most ``x`` may be at each grid point (1/s²; ``inf`` where free).
+    bands : list of _Band, optional
+        The constraints' bounds per interval to start from (and to tighten, in
+        place): a caller that measures a later timing (a smoothed one) moves them
+        in between calls. By default the constraints' own bounds.
 
     Returns
     -------
@@ -282,20 +288,22 @@ def optimal_x(
         The constraints' reports of the timing returned (empty without constraints).
     """
     channels = path_channels(path, s, velocity, acceleration)
-    corners = np.union1d(channels.corners, np.asarray(stops, dtype=int))
-    channels = dataclasses.replace(channels, corners=corners)
-    bands = [_Band.of(limit, s.size - 1) for limit in constraints]
+    if len(stops):
+        corners = np.union1d(channels.corners, np.asarray(stops, dtype=int))
+        channels = dataclasses.replace(channels, corners=corners)
+    if bands is None:
+        bands = [_Band.of(limit, s.size - 1) for limit in constraints]
     states = _collocated(path, s) if constraints else None
     stages = Stages(channels, _rows(constraints, bands, states, s))
     n = s.size
-    velocity_factor, acceleration_scale = np.ones(n), np.ones(n - 1)
-    if ceiling is not None:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            below = ceiling / stages.velocity_cap
-        velocity_factor = np.minimum(velocity_factor, np.where(np.isnan(below), 1.0, below))
+    acceleration_scale = np.ones(n - 1)
+    # The most x may be at each point, as tightened: kept in x, not as a factor on the
+    # velocity caps, which change when the stages are built again.
+    x_cap = np.full(n, np.inf) if ceiling is None else np.array(ceiling, dtype=float)
     x_start, x_end = speeds[0] ** 2, speeds[1] ** 2
     for rounds in range(1, _ROUNDS + 1):
-        x = stages.solve(x_start, x_end, velocity_factor, acceleration_scale)
+        x = stages.solve(x_start, x_end, _factor(x_cap, stages.velocity_cap),
+                         acceleration_scale)  # fmt: skip
         ratio_v, ratio_a = interval_peaks(path, s, x, velocity, acceleration)
         over_v, over_a = ratio_v > 1.0 + LIMIT_RTOL, ratio_a > 1.0 + LIMIT_RTOL
         checks = _tighten(constraints, bands, _timed_within(path, s, x)) if constraints else []
@@ -312,9 +320,7 @@ def optimal_x(
         target[:-1] = np.where(over_v, x[:-1] * factor, np.inf)
         target[1:] = np.minimum(target[1:], np.where(over_v, x[1:] * factor, np.inf))
         target[0], target[-1] = max(target[0], x_start), max(target[-1], x_end)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            wanted = target / stages.velocity_cap
-        velocity_factor = np.minimum(velocity_factor, np.where(np.isnan(wanted), np.inf, wanted))
+        x_cap = np.minimum(x_cap, target)
     if constraints:  # no uniform slow-down: it would not keep gravity's share of a torque
         missed = [str(v) for check in checks for v in check.violations]
         what = "; ".join(missed) or "the joint limits were still passed between grid points"
@@ -329,6 +335,13 @@ def optimal_x(
         )
     slow = float(max(ratio_v.max(), np.sqrt(ratio_a.max()), 1.0) * (1 + ROUNDING_RTOL))
     return x, _ROUNDS, slow, checks
+
+
+def _factor(x_cap: FloatArray, velocity_cap: FloatArray) -> FloatArray:
+    """``x_cap`` as a factor (at most 1) on the stages' velocity caps; 1 where both are inf."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        below = x_cap / velocity_cap
+    return np.minimum(1.0, np.where(np.isnan(below), 1.0, below))
 
 
 def _timed_within(path: Trajectory, s: FloatArray, x: FloatArray) -> Trajectory:
@@ -361,6 +374,9 @@ class _Band:
     lower: FloatArray
     upper: FloatArray
     rounds: int = 0  # rounds in which some interval passed
+    #: Moved along the whole path: the last move in and the excess it answered, per
+    #: side and component, to learn how much of a move reaches the measured peak.
+    moves: dict[str, tuple[FloatArray, FloatArray]] = dataclasses.field(default_factory=dict)
 
     @classmethod
     def of(cls, limit: PathLimit, intervals: int) -> _Band:
@@ -394,16 +410,21 @@ def _tighten(
     constraints: tuple[PathLimit, ...],
     bands: list[_Band],
     timing: Trajectory,
+    *,
+    per_interval: bool = True,
 ) -> list[Report]:
     """Measure ``timing`` against each constraint, and move in the bands it passed.
 
     Returns each constraint's :class:`~trajkit.Report` of ``timing`` (the same as
     ``check``'s): where one is not ok, its bands moved.
 
-    The bound of an interval also rests on its neighbours' timing, and along a
-    stretch at the bound an excess may move on to the next interval each round: from
-    the second round on, every interval's side also moves in by the largest excess
-    of that component (a few 1e-6 of the bound, by then).
+    ``per_interval``: the timing's pieces are the grid's intervals, and each
+    interval's side moves in by its own excess. The bound of an interval also rests
+    on its neighbours' timing, and along a stretch at the bound an excess may move on
+    to the next interval each round: from the second round on, every interval's side
+    also moves in by the largest excess of that component (a few 1e-6 of the bound,
+    by then). Otherwise (a smoothed timing, whose pieces are not the intervals) every
+    interval's side moves in by the component's largest excess.
     """
     reports = []
     for limit, band in zip(constraints, bands, strict=True):
@@ -419,17 +440,42 @@ def _tighten(
         over_lo = bound_lo - low
         slack = LIMIT_RTOL * size
         hit_hi, hit_lo = over_hi > slack, over_lo > slack
-        if hit_hi.any() or hit_lo.any():  # as the report says (the same rule as compare)
-            # In by the excess and a little more (_INSIDE of the bound), so that the
-            # neighbours' re-timing rarely needs another round.
-            inside = slack + _INSIDE * size
+        if not (hit_hi.any() or hit_lo.any()):  # as the report says (the same rule as compare)
+            continue
+        # In by the excess and a little more (_INSIDE of the bound), so that the
+        # neighbours' re-timing rarely needs another round.
+        inside = slack + _INSIDE * size
+        if per_interval:
             band.upper -= np.where(hit_hi, over_hi + inside, 0.0)
             band.lower += np.where(hit_lo, over_lo + inside, 0.0)
             if band.rounds:
                 band.upper -= np.where(hit_hi.any(axis=0), np.maximum(over_hi, 0).max(axis=0), 0)
                 band.lower += np.where(hit_lo.any(axis=0), np.maximum(over_lo, 0).max(axis=0), 0)
-            band.rounds += 1
+        else:
+            band.upper -= _move(band, "upper", over_hi, hit_hi, inside)
+            band.lower += _move(band, "lower", over_lo, hit_lo, inside)
+        band.rounds += 1
     return reports
+
+
+def _move(band: _Band, side: str, over: FloatArray, hit: FloatArray, inside: FloatArray
+          ) -> FloatArray:  # fmt: skip
+    """How far to move one side of ``band`` in along the whole path, per component.
+
+    The largest excess, divided by the share of the last move that reached the
+    measured peak (a smoothed timing's peak falls by less than its bound moved: the
+    average spreads the speed onto its neighbours), between 1 and 1/10.
+    """
+    excess = np.where(hit.any(axis=0), np.maximum(over, 0.0).max(axis=0), 0.0)
+    reach = np.ones_like(excess)
+    if side in band.moves:
+        moved, before = band.moves[side]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            share = (before - excess) / moved
+        reach = np.where((moved > 0) & np.isfinite(share), np.clip(share, 0.1, 1.0), 1.0)
+    step = np.where(excess > 0, excess / reach + inside, 0.0)
+    band.moves[side] = (step, excess)
+    return step
 
 
 def path_channels(
@@ -455,16 +501,18 @@ def path_channels(
     """
     from trajkit.time_optimal import _passes
 
-    piece, offset = pieces_of(path, s)
-    slope = _passes.local_slopes(np.ascontiguousarray(path.coefficients, dtype=float), piece,
-                                 np.ascontiguousarray(offset, dtype=float),
+    contiguous = np.ascontiguousarray
+    slope = _passes.local_slopes(contiguous(path.coefficients, dtype=float),
+                                 contiguous(path.breakpoints, dtype=float),
+                                 contiguous(s, dtype=float),
                                  _binomials(path.coefficients.shape[0]))  # fmt: skip
     corners = np.searchsorted(s, jumps(path, 1))
     return Channels(s, slope, velocity, acceleration, corners)
 
 
+@cache
 def _binomials(size: int) -> FloatArray:
-    """``C(n, j)`` for ``n, j < size``, as floats."""
+    """``C(n, j)`` for ``n, j < size``, as floats (cached and shared: kernels only read it)."""
     out = np.zeros((size, size))
     for n in range(size):
         for j in range(n + 1):
@@ -473,20 +521,22 @@ def _binomials(size: int) -> FloatArray:
 
 
 def jumps(path: Trajectory, order: int) -> FloatArray:
-    """The path's inner breakpoints (s) where its ``order``-th derivative jumps.
+    """The path's inner breakpoints (s) where its ``order``-th derivative jumps."""
+    return path.breakpoints[1:-1][breakpoint_steps(path, order).any(axis=1)]
 
-    A jump counts when it exceeds 1e-9 of the derivative's largest value at the
+
+def breakpoint_steps(path: Trajectory, order: int) -> FloatArray:
+    """The jump of the path's ``order``-th derivative at each inner breakpoint, (P - 1, ndof).
+
+    The value the next piece starts with minus the value the previous piece ends
+    with; 0 where the jump is within 1e-9 of the derivative's largest value at the
     breakpoints (at least 1).
     """
-    inner = path.breakpoints[1:-1]
-    if not inner.size:
-        return inner
-    # One evaluation: just before each inner breakpoint, then at every breakpoint.
-    values = path.evaluate(np.concatenate([np.nextafter(inner, -np.inf), path.breakpoints]),
-                           order)  # fmt: skip
-    left, at_points = values[: inner.size], values[inner.size :]
-    scale = max(float(np.abs(at_points).max()), 1.0)
-    return inner[np.abs(left - at_points[1:-1]).max(axis=1) > JUMP_RTOL * scale]
+    from trajkit.time_optimal import _passes
+
+    return _passes.breakpoint_steps(np.ascontiguousarray(path.coefficients, dtype=float),
+                                    np.ascontiguousarray(path.breakpoints, dtype=float),
+                                    order, JUMP_RTOL)  # fmt: skip
 
 
 def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
@@ -546,21 +596,16 @@ def grid_points(breakpoints: FloatArray, grid: int | ArrayLike) -> FloatArray:
             raise InvalidInputError(
                 f"grid points must start and end with the path, at {start:g} and {end:g}"
             )
+    from trajkit.time_optimal import _passes
+
     # The path's own breakpoints are grid points, so every interval lies in one piece.
-    points = np.union1d(points, breakpoints)
-    keep = np.append(np.diff(points) > ROUNDING_RTOL * (end - start), True)
-    out = points[keep]
-    out[-1] = end
-    # An interval between two breakpoints may lie between two rests (corners, where
-    # the path stops): one interval with no speed at either end cannot be crossed.
-    # Such intervals get _SPLIT of their own.
-    ends = np.isin(out, breakpoints)
-    both = np.flatnonzero(ends[:-1] & ends[1:])
-    if both.size:
-        fractions = np.arange(1, _SPLIT) / _SPLIT
-        inner = out[both, None] + np.diff(out)[both, None] * fractions
-        out = np.union1d(out, inner.ravel())
-    return out
+    # Points closer than ROUNDING_RTOL of the span are merged. An interval between two
+    # breakpoints may lie between two rests (corners, where the path stops): one
+    # interval with no speed at either end cannot be crossed, so such intervals get
+    # _SPLIT of their own.
+    return _passes.merged_grid(np.ascontiguousarray(points, dtype=float),
+                               np.ascontiguousarray(breakpoints, dtype=float),
+                               ROUNDING_RTOL * (end - start), _SPLIT)  # fmt: skip
 
 
 def _checked_limits(limits: object) -> Limits:
@@ -572,13 +617,12 @@ def _checked_limits(limits: object) -> Limits:
 
 
 def _sides(limits: Limits, quantity: str, ndof: int) -> tuple[FloatArray, FloatArray]:
-    lower, upper = getattr(limits, quantity).for_ndof(quantity, ndof)
-    lower, upper = np.array(lower, dtype=float), np.array(upper, dtype=float)
-    if np.any(lower >= 0.0) or np.any(upper <= 0.0):
+    lower, upper = np.array(getattr(limits, quantity).for_ndof(quantity, ndof), dtype=float)
+    if (lower >= 0.0).any() or (upper <= 0.0).any():
         raise InvalidInputError(
             f"{quantity} bounds must have lower < 0 < upper for every joint, got "
             f"({lower.tolist()}, {upper.tolist()})"
         )
-    if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
+    if not (np.isfinite(lower).all() and np.isfinite(upper).all()):
         raise InvalidInputError(f"{quantity} bounds must be finite for a time-optimal timing")
     return lower, upper

@@ -6,12 +6,18 @@
   curve (:func:`feasible_below`, :func:`maximum_velocity_curve`) and the passes'
   terms; :func:`rate_ratios` — the squared-rate hull behind the velocity caps;
 * :func:`recurrence` — the backward and forward passes;
-* :func:`local_slopes` — the path's slope re-expanded on every interval;
-* :func:`cubic_ratios` and :func:`compose` — the timed path's exact peaks against
-  the bounds, and its polynomials.
+* :func:`local_slopes` and :func:`interval_terms` — the path's slope re-expanded on
+  every interval;
+* :func:`cubic_ratios`, :func:`timed_pieces` and :func:`compose` — the timed path's
+  exact peaks against the bounds, and its polynomials (:func:`phases`,
+  :func:`pieces_of`);
+* :func:`merged_grid` and :func:`breakpoint_steps` — the grid, and where the path's
+  position or tangent jumps.
 
-Each replaces the NumPy code that was here before it, with the same results (the
-tests compare them with plain re-implementations and with toppra). Importing this
+Each replaces the NumPy code that was here before it, with the same results up to
+rounding (the tests compare them with plain re-implementations and with toppra).
+Compiled for one problem as much as for many: at 100 grid points a call's fixed
+cost, a few dozen small NumPy operations, was as large as the solve. Importing this
 module imports numba (slow): :mod:`.reachability` and :mod:`.timing` import it inside
 their functions, so ``import trajkit`` stays fast.
 """
@@ -184,16 +190,16 @@ def _on_u(slope, curve, lower, upper, threshold):  # pragma: no cover
 
 
 @njit(cache=True)
-def _point_curve(first, second, acc_lo, acc_hi, threshold):  # pragma: no cover
-    """The maximum velocity curve of the acceleration rows at one point alone."""
-    m = first.size
-    valid = np.empty(m, dtype=np.bool_)
-    rate, high, low = np.empty(m), np.empty(m), np.empty(m)
-    for j in range(m):
+def _point_curve(first, second, acc_lo, acc_hi, thresholds, valid, rate, high,
+                 low):  # pragma: no cover  # fmt: skip
+    """The maximum velocity curve of the acceleration rows at one point alone.
+
+    ``valid``, ``rate``, ``high`` and ``low`` (m,) are work space, overwritten.
+    """
+    for j in range(first.size):
         valid[j], rate[j], high[j], low[j] = _on_u(first[j], second[j], acc_lo[j], acc_hi[j],
-                                                   threshold)  # fmt: skip
-    return _one_curve(valid, rate, high, low, first, second, acc_lo, acc_hi,
-                      np.full(m, threshold))  # fmt: skip
+                                                   thresholds[j])  # fmt: skip
+    return _one_curve(valid, rate, high, low, first, second, acc_lo, acc_hi, thresholds)
 
 
 @njit(cache=True)
@@ -241,6 +247,8 @@ def channel_rows(ascending, rate_of, hull, vel_lo, vel_hi, acc_lo, acc_hi,
     on_u, on_x = np.empty((n, size * m)), np.empty((n, size * m))
     at_point, at_points = np.empty(n + 1), np.empty(n + 1)
     first, second, left = np.empty(m), np.empty(m), np.empty(m)
+    thresholds = np.full(m, threshold)
+    valid, rate, high, low = np.empty(m, dtype=np.bool_), np.empty(m), np.empty(m), np.empty(m)
     for i in range(n + 1):
         for j in range(m):
             if i < n:  # from the right
@@ -258,7 +266,8 @@ def channel_rows(ascending, rate_of, hull, vel_lo, vel_hi, acc_lo, acc_hi,
                     left[j] += ascending[c, i - 1, j]
         at_point[i] = min(_rate_cap(first, vel_lo, vel_hi, threshold),
                           _rate_cap(left, vel_lo, vel_hi, threshold))  # fmt: skip
-        at_points[i] = _point_curve(first, second, acc_lo, acc_hi, threshold)
+        at_points[i] = _point_curve(first, second, acc_lo, acc_hi, thresholds, valid, rate, high,
+                                    low)  # fmt: skip
     for i in range(n):
         for c in range(size):
             for j in range(m):
@@ -372,9 +381,15 @@ def rate_ratios(ascending, w, vel_lo, vel_hi, square_hull, hull):  # pragma: no 
             for a in range(size):
                 for b in range(size):
                     square[a + b] += ascending[a, i, j] * ascending[b, i, j]
-            for c in range(top):
+            finite = True
+            for k in range(top):
+                finite = finite and np.isfinite(square[k])
+            if not finite:  # NaN, as numpy's product with the hull's zeros gives
+                best = np.nan
+                continue
+            for c in range(top):  # the Bernstein matrices are lower triangular
                 total = 0.0
-                for k in range(top):
+                for k in range(c + 1):
                     total += square_hull[c, k] * square[k]
                 g[c] = total
             rate2 = _larger(g[0] * w[i], g[top - 1] * w[i + 1])
@@ -384,7 +399,7 @@ def rate_ratios(ascending, w, vel_lo, vel_hi, square_hull, hull):  # pragma: no 
             rising, falling = True, True
             for c in range(size):
                 total = 0.0
-                for k in range(size):
+                for k in range(c + 1):
                     total += hull[c, k] * ascending[k, i, j]
                 if not total >= 0.0:
                     rising = False
@@ -402,13 +417,14 @@ def rate_ratios(ascending, w, vel_lo, vel_hi, square_hull, hull):  # pragma: no 
 
 
 @njit(cache=True)
-def local_slopes(coefficients, piece, offset, binomial):  # pragma: no cover
-    """``d/dσ q(w0 + σ)`` on every interval, descending in σ.
+def local_slopes(coefficients, breakpoints, s, binomial):  # pragma: no cover
+    """``d/dσ q(w0 + σ)`` on every interval of ``s``, descending in σ.
 
-    Each interval's path piece is re-expanded at the interval's start ``w0``
-    (``offset``) and differentiated. ``coefficients`` (k + 1, P, m) descending,
+    Each interval's path piece (:func:`pieces_of`) is re-expanded at the interval's
+    start ``w0`` and differentiated. ``coefficients`` (k + 1, P, m) descending,
     ``binomial[n, j]`` = C(n, j).
     """
+    piece, offset = pieces_of(breakpoints, s)
     size, _, m = coefficients.shape
     k = size - 1
     n_intervals = piece.size
@@ -435,21 +451,25 @@ def local_slopes(coefficients, piece, offset, binomial):  # pragma: no cover
 
 
 @njit(cache=True)
-def cubic_ratios(c4, piece, w0, x, delta, v_lo, v_hi, a_lo, a_hi):  # pragma: no cover
-    """Per interval, the largest ratio of joint velocity and of acceleration to its bound.
+def cubic_ratios(coefficients, breakpoints, s, x, v_lo, v_hi, a_lo, a_hi):  # pragma: no cover
+    """Per interval of ``s``, the largest ratio of joint velocity and of acceleration to its bound.
 
-    The path is cubic at most (``c4``: (4, P, m), descending, zero-padded). In
+    The path is cubic at most (``coefficients``: (k + 1, P, m), descending, k <= 3). In
     ``σ = s - s_i``, ``q̈ = A σ² + B σ + C`` has its extremes at the ends and the
     vertex, and ``q̇ = q' ṡ`` peaks at the ends or where ``q̈`` vanishes. A value's
     ratio is to the bound of its side; NaN propagates as in numpy.
     """
-    n, m = piece.size, c4.shape[2]
+    piece, w0 = pieces_of(breakpoints, s)
+    n, m = piece.size, coefficients.shape[2]
+    pad = 4 - coefficients.shape[0]  # missing leading powers
+    c4 = np.zeros((4, coefficients.shape[1], m))
+    c4[pad:] = coefficients
     ratio_v, ratio_a = np.empty(n), np.empty(n)
     accel, speed, where = np.empty(3), np.empty(4), np.empty(4)
     for i in range(n):
         xi = x[i]
-        ui = (x[i + 1] - x[i]) / (2.0 * delta[i])
-        width = delta[i]
+        width = s[i + 1] - s[i]
+        ui = (x[i + 1] - x[i]) / (2.0 * width)
         w = w0[i]
         p = piece[i]
         worst_v, worst_a = -np.inf, -np.inf
@@ -487,18 +507,32 @@ def cubic_ratios(c4, piece, w0, x, delta, v_lo, v_hi, a_lo, a_hi):  # pragma: no
 
 
 @njit(cache=True)
-def passes(shrink, pull, usable, grow, push, valid, rate, low, scaled, acc_scale, cap, x_start,
-           x_end, delta):  # pragma: no cover  # fmt: skip
+def passes(shrink, pull, usable, grow, push, valid, rate, low, scaled, acc_scale, velocity_cap,
+           velocity_factor, acceleration_cap, rests, x_start, x_end,
+           delta):  # pragma: no cover  # fmt: skip
     """Both passes of one solve, and the stages left with no u between their rows.
 
-    Backward from the end, ``reach_i = clip(min_j shrink (reach_{i+1} - pull), 0,
-    cap_i)`` over the usable rows; forward, ``x_{i+1} = clip(min_j (grow x_i + push),
-    0, reach_{i+1})``; each row's bounds scaled by ``acc_scale`` where ``scaled``.
-    Returns ``reach``, ``x`` (its last value the end speed's square), the forward
-    pass's own last value, and per stage whether ``u`` fell below its rows' least
-    bound (by more than rounding amplified by ``1 / 2Δ``).
+    The maximum velocity curve is the lower of ``velocity_cap * velocity_factor``
+    and ``acceleration_cap`` scaled by each interval's ``acc_scale`` (the last
+    point's by the last interval's), 0 where ``rests``. Backward from the end,
+    ``reach_i = clip(min_j shrink (reach_{i+1} - pull), 0, cap_i)`` over the usable
+    rows; forward, ``x_{i+1} = clip(min_j (grow x_i + push), 0, reach_{i+1})``; each
+    row's bounds scaled by ``acc_scale`` where ``scaled``.
+    Returns the curve, ``reach``, ``x`` (its last value the end speed's square), the
+    forward pass's own last value, and per stage whether ``u`` fell below its rows'
+    least bound (by more than rounding amplified by ``1 / 2Δ``).
     """
-    n = cap.size - 1
+    n = velocity_cap.size - 1
+    cap = np.empty(n + 1)
+    for i in range(n + 1):
+        around = acc_scale[min(i, n - 1)]
+        cap[i] = (
+            0.0
+            if rests[i]
+            else _larger(
+                _smaller(velocity_cap[i] * velocity_factor[i], acceleration_cap[i] * around), 0.0
+            )
+        )
     rows = shrink.shape[1]
     pulled, pushed = np.empty((n, rows)), np.empty((n, rows))
     for k in range(n):
@@ -528,21 +562,51 @@ def passes(shrink, pull, usable, grow, push, valid, rate, low, scaled, acc_scale
                         break
         slack = 1e-10 * (abs(need) + x[k] / (2.0 * delta[k]))
         stuck[k] = u < need - slack
-    return reach, x, last, stuck
+    return cap, reach, x, last, stuck
 
 
 @njit(cache=True)
-def build_stages(ascending, rate_of, hull, square_hull, vel_lo, vel_hi, acc_lo, acc_hi, flat,
-                 extra_on_u, extra_on_x, extra_lower, extra_upper, flat_row, delta,
+def interval_terms(slope, delta, degree):  # pragma: no cover
+    """``c'`` and ``c''`` on every interval in ascending powers of ``τ = σ / Δ``.
+
+    ``slope`` (K + 1, N, m) is ``c'(σ)`` in descending powers of σ; the results are
+    (degree + 1, N, m), zero-padded, with ``degree >= K``. Also returns the size of
+    ``c'`` at the grid points (at least 1), the scale of a "still" channel.
+    """
+    size, n, m = slope.shape
+    ascending = np.zeros((degree + 1, n, m))
+    rate_of = np.zeros((degree + 1, n, m))
+    scale = 0.0
+    for i in range(n):
+        for j in range(m):
+            end, power = 0.0, 1.0
+            for c in range(size):
+                ascending[c, i, j] = slope[size - 1 - c, i, j] * power
+                end += ascending[c, i, j]
+                power *= delta[i]
+            for c in range(degree):
+                rate_of[c, i, j] = (c + 1) * ascending[c + 1, i, j] / delta[i]
+            scale = max(scale, abs(ascending[0, i, j]))
+            if i == n - 1:
+                scale = max(scale, abs(end))
+    return ascending, rate_of, scale if scale > 0.0 else 1.0
+
+
+@njit(cache=True)
+def build_stages(slope, hull, square_hull, vel_lo, vel_hi, acc_lo, acc_hi, flat, extra_on_u,
+                 extra_on_x, extra_lower, extra_upper, flat_row, delta,
                  rounding):  # pragma: no cover  # fmt: skip
     """Everything :class:`~trajkit.time_optimal.reachability.Stages` holds, in one call.
 
-    The channels' rows (:func:`channel_rows`) and any further rows (``extra_*``, (N, r),
-    flat where their u term is below ``flat_row`` of the larger of their column's
-    largest and their x term in u's units), each stage's cap and the passes' terms
-    (:func:`stage_setup`), and the velocity caps that keep the rates inside every
-    interval (:func:`rate_ratios`).
+    The channels' rows (:func:`channel_rows`, ``slope`` as :func:`interval_terms`
+    takes it, a channel still where its slope is below ``flat`` of the largest at the
+    grid points) and any further rows (``extra_*``, (N, r), flat where their u term
+    is below ``flat_row`` of the larger of their column's largest and their x term in
+    u's units), each stage's cap and the passes' terms (:func:`stage_setup`), and the
+    velocity caps that keep the rates inside every interval (:func:`rate_ratios`).
     """
+    ascending, rate_of, scale = interval_terms(slope, delta, hull.shape[0] - 1)
+    flat = flat * scale
     n, m = ascending.shape[1:]
     on_u0, on_x0, at_point, at_points = channel_rows(ascending, rate_of, hull, vel_lo, vel_hi,
                                                      acc_lo, acc_hi, flat)  # fmt: skip
@@ -617,3 +681,151 @@ def _velocity_caps(ascending, at_point, acceleration_cap, vel_lo, vel_hi, square
         before = rho[p - 1] if p > 0 else 1.0
         out[p] = _smaller(at_point[p], clamped[p] / _larger(after, before))
     return out
+
+
+@njit(cache=True)
+def merged_grid(points, breakpoints, close, split):  # pragma: no cover
+    """:func:`trajkit.time_optimal.grid_points`'s merge, both inputs sorted.
+
+    The union of ``points`` and ``breakpoints``; a point followed within ``close``
+    by the next is dropped, the last is the last breakpoint, and the first is the
+    first breakpoint unless a breakpoint took its place. An interval between
+    two breakpoints gets ``split - 1`` points inside, at equal fractions.
+    """
+    merged = np.empty(points.size + breakpoints.size)
+    count, a, b = 0, 0, 0
+    while a < points.size or b < breakpoints.size:
+        take_point = b >= breakpoints.size or (a < points.size and points[a] <= breakpoints[b])
+        value = points[a] if take_point else breakpoints[b]
+        if take_point:
+            a += 1
+        else:
+            b += 1
+        if count == 0 or value != merged[count - 1]:
+            merged[count] = value
+            count += 1
+    kept = np.empty(count)
+    on_break = np.zeros(count, dtype=np.bool_)
+    size, b = 0, 0
+    for k in range(count):
+        if k == count - 1 or merged[k + 1] - merged[k] > close:
+            kept[size] = merged[k]
+            size += 1
+    kept[size - 1] = breakpoints[-1]
+    for k in range(size):  # exactly a breakpoint, as both are sorted
+        while b < breakpoints.size and breakpoints[b] < kept[k]:
+            b += 1
+        on_break[k] = b < breakpoints.size and breakpoints[b] == kept[k]
+    if not on_break[0]:
+        # A point a hair after the start took its place: the grid starts with the path.
+        # (A breakpoint there stays: the grid's first piece is then the path's second.)
+        kept[0], on_break[0] = breakpoints[0], True
+    inside = 0
+    for k in range(size - 1):
+        if on_break[k] and on_break[k + 1]:
+            inside += split - 1
+    out = np.empty(size + inside)
+    n = 0
+    for k in range(size):
+        out[n] = kept[k]
+        n += 1
+        if k < size - 1 and on_break[k] and on_break[k + 1]:
+            width = kept[k + 1] - kept[k]
+            for j in range(1, split):
+                out[n] = kept[k] + width * (j / split)
+                n += 1
+    return out
+
+
+@njit(cache=True)
+def pieces_of(breakpoints, s):  # pragma: no cover
+    """The path piece each interval of ``s`` starts in, and its offset into that piece."""
+    count = s.size - 1
+    piece = np.searchsorted(breakpoints, s[:-1], side="right") - 1
+    offset = np.empty(count)
+    last = breakpoints.size - 2
+    for i in range(count):
+        piece[i] = min(max(piece[i], 0), last)
+        offset[i] = s[i] - breakpoints[piece[i]]
+    return piece, offset
+
+
+@njit(cache=True)
+def phases(s, x):  # pragma: no cover
+    """Path speed at the points, each interval's duration and ``s̈``; -1 or a stalled interval.
+
+    With ``x = ṡ²`` linear in ``s`` on an interval, ``s̈`` is constant there and the
+    interval takes ``2 Δs / (ṡ_i + ṡ_{i+1})``; an interval whose speed vanishes at
+    both ends is never crossed, and its index is returned.
+    """
+    count = s.size - 1
+    speed = np.sqrt(x)
+    durations, u = np.empty(count), np.empty(count)
+    stalled = -1
+    for i in range(count):
+        delta = s[i + 1] - s[i]
+        total = speed[i] + speed[i + 1]
+        if total <= 0.0 and stalled < 0:
+            stalled = i
+        durations[i] = 2.0 * delta / total if total != 0.0 else np.inf
+        u[i] = (x[i + 1] - x[i]) / (2.0 * delta)
+    return speed, durations, u, stalled
+
+
+@njit(cache=True)
+def timed_pieces(coefficients, breakpoints, s, x):  # pragma: no cover
+    """``q(s(t))`` on every interval of ``s`` (:func:`trajkit.time_optimal.timing.timed`).
+
+    Returns the breakpoints in time, the coefficients (:func:`compose`), and the
+    first stalled interval (-1 if none: :func:`phases`).
+    """
+    speed, durations, u, stalled = phases(s, x)
+    piece, offset = pieces_of(breakpoints, s)
+    count = piece.size
+    times = np.empty(count + 1)
+    times[0] = 0.0
+    sigma = np.empty((count, 3))
+    local = np.empty((coefficients.shape[0], count, coefficients.shape[2]))
+    for i in range(count):
+        times[i + 1] = times[i] + durations[i]
+        sigma[i, 0], sigma[i, 1], sigma[i, 2] = offset[i], speed[i], u[i] / 2.0
+        local[:, i, :] = coefficients[:, piece[i], :]
+    return times, compose(local, sigma), stalled
+
+
+@njit(cache=True)
+def breakpoint_steps(coefficients, breakpoints, order, rtol):  # pragma: no cover
+    """:func:`trajkit.time_optimal.breakpoint_steps` of a path's coefficients (k + 1, P, m).
+
+    The ``order``-th derivative's jump at each inner breakpoint, 0 within ``rtol`` of
+    its largest value at the breakpoints (at least 1).
+    """
+    size, count, m = coefficients.shape
+    degree = size - 1
+    # The derivative's coefficients, descending: d^order/dσ^order of σ^(degree - c).
+    rows = max(size - order, 1)
+    c = np.zeros((rows, count, m))
+    for r in range(size - order):
+        power = degree - r
+        factor = 1.0
+        for step in range(order):
+            factor *= power - step
+        c[r] = coefficients[r] * factor
+    starts, ends = np.empty((count, m)), np.empty((count, m))
+    scale = 1.0
+    for p in range(count):
+        length = breakpoints[p + 1] - breakpoints[p]
+        for j in range(m):
+            value = c[0, p, j]
+            for r in range(1, rows):
+                value = value * length + c[r, p, j]
+            starts[p, j], ends[p, j] = c[rows - 1, p, j], value
+            scale = max(scale, abs(starts[p, j]))
+            if p == count - 1:
+                scale = max(scale, abs(value))
+    steps = np.empty((count - 1, m))
+    for p in range(count - 1):
+        for j in range(m):
+            step = starts[p + 1, j] - ends[p, j]
+            steps[p, j] = step if abs(step) > rtol * scale else 0.0
+    return steps

@@ -45,6 +45,7 @@ from trajkit import _poly
 from trajkit._validation import FloatArray
 from trajkit.errors import InfeasibleError
 from trajkit.limits import Limits
+from trajkit.time_optimal.constraints import PathLimit
 from trajkit.time_optimal.timing import compose, phases, pieces_of, rest_states
 from trajkit.tolerances import ROUNDING_RTOL
 from trajkit.trajectory import Trajectory
@@ -58,7 +59,8 @@ _ROUNDS = 8
 
 
 def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
-             speeds: tuple[float, float] = (0.0, 0.0)) -> Trajectory:  # fmt: skip
+             speeds: tuple[float, float] = (0.0, 0.0),
+             constraints: tuple[PathLimit, ...] = ()) -> Trajectory:  # fmt: skip
     """The jerk-limited timing of ``path`` on the grid ``s`` (see the module notes).
 
     Parameters
@@ -73,6 +75,8 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
         How far ``path`` strays from the user's path (recorded in ``info``).
     speeds : tuple of float
         Path speeds at the start and the end (1/s).
+    constraints : tuple of PathLimit
+        Torque and tool limits, measured on the smoothed timing (module notes).
 
     Returns
     -------
@@ -81,22 +85,58 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
         ``speeds`` says otherwise; every limit holds exactly, and at rest to rest
         the tightest is just reached.
     """
-    from trajkit.time_optimal import _sides, jumps, optimal_x
+    from trajkit.time_optimal import _Band, _sides, jumps
 
     ndof = path.ndof
     velocity = _sides(limits, "velocity", ndof)
     acceleration = _sides(limits, "acceleration", ndof)
     jerk = _sides(limits, "jerk", ndof)
     rests = np.union1d(jumps(path, 1), jumps(path, 2))
+    # The constraints' bounds, moved in along the whole path where a smoothed timing
+    # passed them: one row, repeated on whatever grid the profile is computed on.
+    moved = [_Band.of(limit, 1) for limit in constraints]
     if max(speeds) > 0.0:
-        return _moving_ends(path, s, (velocity, acceleration, jerk), rests, stray, speeds)
+        return _moving_ends(path, s, (velocity, acceleration, jerk), rests, stray, speeds,
+                            constraints, moved)  # fmt: skip
+    solves = 0
+    for _ in range(_ROUNDS):
+        result, windows, rounds = _rest_to_rest(path, s, (velocity, acceleration, jerk), rests,
+                                                constraints, moved)  # fmt: skip
+        solves += rounds
+        checks = _measured(constraints, moved, result)
+        if all(check.ok for check in checks):
+            break
+    else:
+        _refuse(checks)
+    info = {"planner": "topp", "continuity": 2, "jerk_limited": True, "grid_points": s,
+            "rests": rests, "windows": windows, "rounds": solves, "path_error": stray}  # fmt: skip
+    if constraints:
+        info["constraint_checks"] = checks
+    return Trajectory(result.breakpoints, result.coefficients, info=info,
+                      **rest_states(path, s, (0.0, 0.0)))  # fmt: skip
+
+
+def _rest_to_rest(
+    path: Trajectory,
+    s: FloatArray,
+    bounds: tuple[tuple[FloatArray, FloatArray], ...],
+    rests: FloatArray,
+    constraints: tuple[PathLimit, ...],
+    moved: list,
+) -> tuple[Trajectory, tuple[float, ...], int]:
+    """The smoothed timing from rest to rest, its windows (s) and the solves it took."""
+    from trajkit.time_optimal import optimal_x
+
+    velocity, acceleration, jerk = bounds
+    limits = Limits(velocity=velocity, acceleration=acceleration, jerk=jerk)
     stops = np.searchsorted(s, rests)
-    x, rounds, _, _ = optimal_x(path, s, velocity, acceleration, stops=stops)
+    bands = _bands_on(moved, s.size - 1)
+    x, rounds, _, _ = optimal_x(path, s, velocity, acceleration, stops=stops,
+                                constraints=constraints, bands=bands)  # fmt: skip
     speed, durations, u = phases(s, x)
     # One rest-to-rest segment between consecutive stops.
     edges = np.union1d([0, s.size - 1], stops)
     typical = _typical_window(acceleration, jerk)
-    checked = Limits(velocity=velocity, acceleration=acceleration, jerk=jerk)
     pieces: list[Trajectory] = []
     windows = []
     for first, last in itertools.pairwise(edges.tolist()):
@@ -106,7 +146,11 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
             window = factor * typical
             curve = _segment(path, s[first : last + 1], speed[first:last], u[span],
                              durations[span], window)  # fmt: skip
-            scale = _scale_to(curve, checked)
+            scale = _scale_to(curve, limits)
+            if constraints:
+                # Faster than the profile computed within the torque and tool bounds
+                # would pass them again: slowed to the joint limits only.
+                scale = max(scale, 1.0)
             if best is None or scale * curve.duration < best[0] * best[1].duration:
                 best = (scale, curve, window)
         scale, curve, window = best
@@ -115,11 +159,34 @@ def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
     result = pieces[0]
     for piece in pieces[1:]:
         result = result.then(piece)
-    info = {"planner": "topp", "continuity": 2, "jerk_limited": True, "grid_points": s,
-            "rests": rests, "windows": tuple(windows), "rounds": rounds,
-            "path_error": stray}  # fmt: skip
-    return Trajectory(result.breakpoints, result.coefficients, info=info,
-                      **rest_states(path, s, (0.0, 0.0)))  # fmt: skip
+    return result, tuple(windows), rounds
+
+
+def _bands_on(moved: list, intervals: int) -> list | None:
+    """The moved bounds on every interval of a grid (None without constraints)."""
+    from trajkit.time_optimal import _Band
+
+    if not moved:
+        return None
+    return [_Band(np.repeat(band.lower, intervals, axis=0),
+                  np.repeat(band.upper, intervals, axis=0)) for band in moved]  # fmt: skip
+
+
+def _measured(constraints: tuple[PathLimit, ...], moved: list, timing: Trajectory) -> list:
+    """The constraints' reports of ``timing``; where one passes, its bounds move in."""
+    from trajkit.time_optimal import _tighten
+
+    if not constraints:
+        return []
+    return _tighten(constraints, moved, timing, per_interval=False)
+
+
+def _refuse(checks: list) -> None:
+    missed = "; ".join(str(v) for check in checks for v in check.violations)
+    raise InfeasibleError(
+        f"no jerk-limited timing on this grid keeps the torque and tool limits after "
+        f"{_ROUNDS} rounds of tightening: {missed}; try another grid or looser limits"
+    )
 
 
 def _moving_ends(
@@ -129,19 +196,26 @@ def _moving_ends(
     rests: FloatArray,
     stray: float,
     speeds: tuple[float, float],
+    constraints: tuple[PathLimit, ...] = (),
+    moved: list | None = None,
 ) -> Trajectory:
     """The jerk-limited timing with a non-zero start or end speed (module notes)."""
     velocity, acceleration, jerk = bounds
     checked = Limits(velocity=velocity, acceleration=acceleration, jerk=jerk)
     typical = _typical_window(acceleration, jerk)
+    moved = moved or []
     scale, failure = 1.0, ""
-    for rounds in range(1, _ROUNDS + 1):
+    # Rounds that scale the joint limits, and rounds that move the constraints in.
+    rounds = scaled = moves = 0
+    while scaled < _ROUNDS and moves < _ROUNDS:
+        rounds += 1
         best, need = None, np.inf
         for factor in _WINDOWS:
             tightened = (tuple(side * scale for side in velocity),
                          tuple(side * scale**2 for side in acceleration))  # fmt: skip
             try:
-                curve, grid = _held_ends(path, s, tightened, rests, speeds, factor * typical)
+                curve, grid = _held_ends(path, s, tightened, rests, speeds, factor * typical,
+                                         constraints, moved)  # fmt: skip
                 ask = _scale_to(curve, checked)
             except InfeasibleError as exc:
                 failure = str(exc)
@@ -151,14 +225,23 @@ def _moving_ends(
             need = min(need, ask)
         if best is not None:
             curve, grid, window = best
+            checks = _measured(constraints, moved, curve)
+            if not all(check.ok for check in checks):
+                # The same scale again, the constraints moved in where the curve passed.
+                failure = "; ".join(str(v) for check in checks for v in check.violations)
+                moves += 1
+                continue
             info = {"planner": "topp", "continuity": 2, "jerk_limited": True,
                     "grid_points": grid, "rests": rests, "windows": (window,),
                     "rounds": rounds, "path_error": stray}  # fmt: skip
+            if constraints:
+                info["constraint_checks"] = checks
             return Trajectory(curve.breakpoints, curve.coefficients, info=info,
                               **rest_states(path, s, speeds))  # fmt: skip
         if not np.isfinite(need):
             break
         scale /= need * (1.0 + 1e-3)
+        scaled += 1
     raise InfeasibleError(
         f"no jerk-limited timing found with start_speed {speeds[0]:g} and end_speed "
         f"{speeds[1]:g}: {failure or 'the limits could not be met'}; lower speeds at the "
@@ -173,6 +256,8 @@ def _held_ends(
     rests: FloatArray,
     speeds: tuple[float, float],
     window: float,
+    constraints: tuple[PathLimit, ...] = (),
+    moved: list | None = None,
 ) -> tuple[Trajectory, FloatArray]:
     """The smoothed timing under ``bounds``, held at the end speeds for half a window."""
     from trajkit.time_optimal import optimal_x
@@ -196,7 +281,9 @@ def _held_ends(
     ceiling[held_start] = speeds[0] ** 2
     ceiling[held_end] = speeds[1] ** 2
     stops = np.searchsorted(grid, rests)
-    x, _, _, _ = optimal_x(path, grid, *bounds, speeds, stops=stops, ceiling=ceiling)
+    bands = _bands_on(moved or [], grid.size - 1)
+    x, _, _, _ = optimal_x(path, grid, *bounds, speeds, stops=stops, ceiling=ceiling,
+                           constraints=constraints, bands=bands)  # fmt: skip
     for held, speed in ((held_start, speeds[0]), (held_end, speeds[1])):
         if np.any(x[held] < speed**2 * (1.0 - 1e-9)):
             raise InfeasibleError(f"the end speed {speed:g} cannot be held for the jerk "

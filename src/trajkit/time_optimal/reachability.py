@@ -24,6 +24,7 @@ stage.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 from math import comb
 
 import numpy as np
@@ -81,8 +82,12 @@ class Rows:
     upper: FloatArray
 
 
+@cache
 def _bernstein(degree: int) -> FloatArray:
-    """``B`` with ``b = B @ a``: Bernstein coefficients on [0, 1] from ascending powers."""
+    """``B`` with ``b = B @ a``: Bernstein coefficients on [0, 1] from ascending powers.
+
+    Cached, shared by every solve: the kernels only read it.
+    """
     out = np.zeros((degree + 1, degree + 1))
     for c in range(degree + 1):
         for j in range(c + 1):
@@ -113,22 +118,12 @@ class Stages:
     def __init__(self, channels: Channels, extra: Rows | None = None) -> None:
         from trajkit.time_optimal import _passes
 
-        s, slope = channels.s, channels.slope
+        slope = channels.slope
         vel_lo, vel_hi = channels.velocity
         acc_lo, acc_hi = channels.acceleration
-        delta = np.diff(s)
+        delta = np.diff(channels.s)
         self.delta = delta
         degree = max(slope.shape[0] - 1, 1)
-        # c'(τ Δ) in ascending powers of τ, shape (K + 1, N, m).
-        ascending = np.zeros((degree + 1, *slope.shape[1:]))
-        ascending[: slope.shape[0]] = slope[::-1]
-        ascending *= delta[None, :, None] ** np.arange(degree + 1)[:, None, None]
-        powers = np.arange(degree + 1)[:, None, None]
-        rate_of = np.zeros_like(ascending)  # c''(σ) = (d/dτ c') / Δ
-        rate_of[:-1] = powers[1:] * ascending[1:] / delta[None, :, None]
-        # The path's derivative at the grid points, for the scale of "still".
-        scale = float(max(np.abs(ascending[0]).max(), np.abs(ascending[:, -1].sum(axis=0)).max()))
-        scale = scale or 1.0
         # Acceleration rows: Bernstein coefficients of c'' (on x_i) and c' + 2σ c'' (on u),
         # and any further rows (a row whose u term is negligible beside its x term, as
         # x ~ 2Δu, or beside that row's largest along the path, bounds x alone: a row
@@ -140,10 +135,9 @@ class Stages:
             nothing = np.zeros((delta.size, 0))
             extra = Rows(nothing, nothing, nothing, nothing)
         built = _passes.build_stages(
-            contiguous(ascending), contiguous(rate_of), _bernstein(degree),
-            _bernstein(2 * degree),
+            contiguous(slope, dtype=float), _bernstein(degree), _bernstein(2 * degree),
             *(contiguous(side, dtype=float) for side in (vel_lo, vel_hi, acc_lo, acc_hi)),
-            _FLAT * scale,
+            _FLAT,
             *(contiguous(part, dtype=float) for part in (extra.on_u, extra.on_x, extra.lower,
                                                          extra.upper)),
             _FLAT_ROW, delta, ROUNDING_RTOL)  # fmt: skip
@@ -152,14 +146,8 @@ class Stages:
          self.velocity_cap) = built[9:]  # fmt: skip
         self._scaled = np.arange(built[0].shape[1]) < (degree + 1) * slope.shape[2]
         self._exact = np.zeros(delta.size + 1, dtype=bool)
-        self.corners = channels.corners
-
-    def caps(self, velocity_factor: FloatArray, acceleration_scale: FloatArray) -> FloatArray:
-        """The maximum velocity curve (in x) with the limits tightened."""
-        around = np.append(acceleration_scale, acceleration_scale[-1])
-        cap = np.minimum(self.velocity_cap * velocity_factor, self.acceleration_cap * around)
-        cap[self.corners] = 0.0
-        return np.maximum(cap, 0.0)
+        self._rests = np.zeros(delta.size + 1, dtype=bool)
+        self._rests[channels.corners] = True
 
     def solve(
         self,
@@ -174,25 +162,27 @@ class Stages:
         ``acceleration_scale`` (per interval) multiplies the interval's acceleration
         bounds. Both default to 1.
         """
+        from trajkit.time_optimal import _passes
+
         n = self.delta.size + 1
         if velocity_factor is None:
             velocity_factor = np.ones(n)
         if acceleration_scale is None:
             acceleration_scale = np.ones(n - 1)
-        cap = self.caps(velocity_factor, acceleration_scale)
-        for name, x, allowed in (("start_speed", x_start, cap[0]), ("end_speed", x_end, cap[-1])):
-            if x > allowed * (1 + LIMIT_RTOL):
+        valid, rate, _, low = self._rows[:4]
+        cap, reach, x, last, stuck_stages = _passes.passes(
+            self._shrink, self._pull, self._usable, self._grow, self._push, valid, rate, low,
+            self._scaled, np.ascontiguousarray(acceleration_scale, dtype=float),
+            self.velocity_cap, np.ascontiguousarray(velocity_factor, dtype=float),
+            self.acceleration_cap, self._rests, float(x_start), float(x_end),
+            self.delta)  # fmt: skip
+        for name, wanted, allowed in (("start_speed", x_start, cap[0]),
+                                      ("end_speed", x_end, cap[-1])):  # fmt: skip
+            if wanted > allowed * (1 + LIMIT_RTOL):
                 raise InfeasibleError(
-                    f"{name} {np.sqrt(x):g} breaks the limits there: at most "
+                    f"{name} {np.sqrt(wanted):g} breaks the limits there: at most "
                     f"{np.sqrt(allowed):.6g} (path parameter per second)"
                 )
-        from trajkit.time_optimal import _passes
-
-        valid, rate, _, low = self._rows[:4]
-        reach, x, last, stuck_stages = _passes.passes(
-            self._shrink, self._pull, self._usable, self._grow, self._push, valid, rate, low,
-            self._scaled, np.ascontiguousarray(acceleration_scale, dtype=float), cap,
-            float(x_start), float(x_end), self.delta)  # fmt: skip
         if x_start > reach[0] * (1 + LIMIT_RTOL):
             raise InfeasibleError(
                 f"start_speed {np.sqrt(x_start):g} is too fast to keep the limits along the path"

@@ -120,9 +120,10 @@ def as_polynomial(path: object, s: FloatArray) -> tuple[Trajectory, float]:
 
 def pieces_of(path: Trajectory, s: FloatArray) -> tuple[np.ndarray, FloatArray]:
     """The path piece each interval lies in, and the interval's offset into it."""
-    piece = np.clip(np.searchsorted(path.breakpoints, s[:-1], side="right") - 1, 0,
-                    path.coefficients.shape[1] - 1)  # fmt: skip
-    return piece, s[:-1] - path.breakpoints[piece]
+    from trajkit.time_optimal import _passes
+
+    return _passes.pieces_of(np.ascontiguousarray(path.breakpoints, dtype=float),
+                             np.ascontiguousarray(s, dtype=float))  # fmt: skip
 
 
 def phases(s: FloatArray, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -136,22 +137,31 @@ def phases(s: FloatArray, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatA
     InfeasibleError
         The speed vanishes at both ends of an interval: it is never crossed.
     """
-    speed = np.sqrt(x)
-    delta = np.diff(s)
-    total = speed[:-1] + speed[1:]
-    if np.any(total <= 0.0):
-        raise InfeasibleError("the path speed vanishes on a whole interval: the path is not "
-                              "traversable within the limits")  # fmt: skip
-    return speed, 2.0 * delta / total, (x[1:] - x[:-1]) / (2.0 * delta)
+    from trajkit.time_optimal import _passes
+
+    speed, durations, u, stalled = _passes.phases(np.ascontiguousarray(s, dtype=float),
+                                                  np.ascontiguousarray(x, dtype=float))  # fmt: skip
+    if stalled >= 0:
+        _stalled()
+    return speed, durations, u
+
+
+def _stalled() -> None:
+    raise InfeasibleError("the path speed vanishes on a whole interval: the path is not "
+                          "traversable within the limits")  # fmt: skip
 
 
 def timed(path: Trajectory, s: FloatArray, x: FloatArray) -> Trajectory:
     """``q(s(t))`` as a Trajectory, one piece per grid interval, starting at t = 0."""
-    speed, durations, u = phases(s, x)
-    piece, offset = pieces_of(path, s)
-    # s(tau) - s_piece = offset + speed tau + u tau^2 / 2, in ascending powers of tau.
-    sigma = np.stack([offset, speed[:-1], u / 2.0], axis=1)
-    return compose(path, np.concatenate([[0.0], np.cumsum(durations)]), sigma, piece)
+    from trajkit.time_optimal import _passes
+
+    # s(tau) - s_piece = offset + speed tau + u tau^2 / 2 on each interval (compiled).
+    times, coefficients, stalled = _passes.timed_pieces(
+        np.ascontiguousarray(path.coefficients, dtype=float),
+        *(np.ascontiguousarray(a, dtype=float) for a in (path.breakpoints, s, x)))  # fmt: skip
+    if stalled >= 0:
+        _stalled()
+    return _trajectory(times, coefficients)
 
 
 def compose(path: Trajectory, times: FloatArray, sigma: FloatArray, piece: np.ndarray
@@ -178,8 +188,13 @@ def compose(path: Trajectory, times: FloatArray, sigma: FloatArray, piece: np.nd
 
     local = np.ascontiguousarray(path.coefficients[:, piece, :], dtype=float)  # (k + 1, M, ndof)
     coefficients = _passes.compose(local, np.ascontiguousarray(sigma, dtype=float))
-    if np.all(np.isfinite(coefficients)) and np.all(np.diff(times) > 0.0):
-        return Trajectory._trusted(np.array(times, dtype=float), coefficients, _NO_INFO)
+    return _trajectory(np.array(times, dtype=float), coefficients)
+
+
+def _trajectory(times: FloatArray, coefficients: FloatArray) -> Trajectory:
+    """Timed pieces as a Trajectory: trusted if finite and increasing, else refused."""
+    if np.isfinite(coefficients).all() and (times[1:] > times[:-1]).all():
+        return Trajectory._trusted(times, coefficients, _NO_INFO)
     return Trajectory(times, coefficients)  # refuses it, saying what overflowed
 
 
@@ -192,12 +207,11 @@ def rest_states(
     path speed there (``speeds``) is 0, ``NaN`` (the pieces' own value) otherwise:
     the timed pieces' own end velocity is a rounding residue such as 3e-14 rad/s.
     """
-    ends = path.evaluate(s[[0, -1]])
-    states = {}
-    for i, (name, speed) in enumerate(zip(("start", "end"), speeds, strict=True)):
-        velocity = np.full(ends.shape[1], 0.0 if speed == 0.0 else np.nan)
-        states[name] = np.stack([ends[i], velocity])
-    return states
+    ends = path._end_positions() if (s[0], s[-1]) == (path.start_time, path.end_time) else (
+        path.evaluate(s[[0, -1]]))  # fmt: skip
+    still = np.array(speeds)[:, None] == 0.0
+    states = np.stack([ends, np.where(still, 0.0, np.full(ends.shape, np.nan))], axis=1)
+    return {"start": states[0], "end": states[1]}
 
 
 def interval_peaks(
@@ -234,13 +248,11 @@ def interval_peaks(
         # the ends and the vertex), and q̇ = q' ṡ peaks at the ends or where q̈ vanishes.
         from trajkit.time_optimal import _passes
 
-        piece, w0 = pieces_of(path, s)
-        padded = np.zeros((4, *path.coefficients.shape[1:]))
-        padded[4 - path.coefficients.shape[0] :] = path.coefficients
         contiguous = np.ascontiguousarray
         return _passes.cubic_ratios(
-            padded, piece, contiguous(w0, dtype=float), contiguous(x, dtype=float), np.diff(s),
-            *(contiguous(side, dtype=float) for side in (*velocity, *acceleration)))  # fmt: skip
+            contiguous(path.coefficients, dtype=float),
+            *(contiguous(a, dtype=float) for a in (path.breakpoints, s, x, *velocity,
+                                                   *acceleration)))  # fmt: skip
     extremes = _timed_extremes(path, s, x)
     ratios = [
         np.maximum(high / upper, low / lower).max(axis=1)
