@@ -190,15 +190,36 @@ def test_a_tool_speed_limit_is_kept_and_binds():
     assert timed.check(LIMITS).ok
 
 
-@pytest.mark.parametrize("kind, bound", [("acceleration", 2.0), ("angular_speed", 1.0)])
+@pytest.mark.parametrize("kind, bound", [("acceleration", 2.0), ("angular_speed", 1.0),
+                                         ("angular_acceleration", 3.0)])  # fmt: skip
 def test_tool_acceleration_and_turn_rate_limits_are_kept(kind, bound):
     limit = ToolLimit(TWO_LINK, **{kind: bound})
     path = spline(2, 2)
     timed = tk.topp(path, LIMITS, grid=300, constraints=limit)
     ratio = dense_ratio(limit, timed).max()
     assert ratio <= 1.0 + ROUNDING
-    # The acceleration polygon sits 1.9% inside the disc; the turn rate is exact.
-    assert ratio > (0.97 if kind == "acceleration" else 0.999)
+    # The acceleration polygons sit 1.9% inside the disc; the turn rate is exact.
+    assert ratio > (0.999 if kind == "angular_speed" else 0.97)
+
+
+def test_the_tool_angular_acceleration_is_the_rate_of_its_angular_velocity():
+    # On the UR5 the turn is three-dimensional: J_w q̈ + J̇_w q̇ against central
+    # differences of J_w(q(t)) q̇(t) (the geometric Jacobian's angular rows).
+    arm = UR5()
+    limit = ToolLimit(arm, angular_speed=1.0, angular_acceleration=2.0)
+    timed = tk.topp(spline(3, 6, spread=1.0), tk.Limits(velocity=2.0, acceleration=10.0),
+                    grid=200, constraints=limit)  # fmt: skip
+    t = np.linspace(0.0, timed.end_time, 20001)
+    omega = np.einsum("nkj,nj->nk", arm.jacobian(timed(t))[:, 3:], timed.velocity(t))
+    step = t[1] - t[0]
+    by_differences = np.linalg.norm((omega[2:] - omega[:-2]) / (2 * step), axis=1)
+    values = limit.values(timed(t), timed.velocity(t), timed.acceleration(t))
+    np.testing.assert_allclose(values[1:-1, 0], np.linalg.norm(omega[1:-1], axis=1), atol=1e-12)
+    # Acceleration jumps at grid points: compare away from them.
+    away = np.min(np.abs(t[1:-1, None] - timed.breakpoints[None, :]), axis=1) > 2 * step
+    np.testing.assert_allclose(values[1:-1, 1][away], by_differences[away], rtol=0, atol=2e-5)
+    assert values[:, 1].max() <= 2.0 * (1 + 1e-9) and values[:, 0].max() <= 1.0 * (1 + 1e-9)
+    assert limit.check(timed).ok
 
 
 def test_torque_and_tool_limits_together():
@@ -363,7 +384,18 @@ def test_bad_gravity_and_chain():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        ({}, "needs at least one of speed, acceleration, angular_speed"),
+        ({}, "needs at least one of speed, acceleration, angular_speed, angular_acceleration"),
+        (
+            {"angular_acceleration": -2.0},
+            r"tool angular_acceleration must be a single number "
+            r"> 0 \(rad/s\^2\)",
+        ),
+        (
+            {"angular_acceleration": 1e-320},
+            r"tool angular_acceleration must be at least "
+            r"1\.49e-154 rad/s\^2 \(its square",
+        ),
+        ({"speed": 1e-200}, "tool speed must be at least 1.49e-154 m/s"),
         ({"speed": 0.0}, "tool speed must be a single number > 0"),
         ({"speed": -1.0}, "tool speed must be a single number > 0"),
         ({"acceleration": np.nan}, "tool acceleration must be finite"),

@@ -275,6 +275,9 @@ class ToolLimit(PathLimit):
         timings may fall 1.9% short of this bound where it alone binds.
     angular_speed : float, optional
         Largest angular speed of the tool (rad/s).
+    angular_acceleration : float, optional
+        Largest norm of the tool's angular acceleration (rad/s²), kept through the
+        same polygon as ``acceleration``.
 
     At least one must be given; each > 0.
     """
@@ -283,14 +286,14 @@ class ToolLimit(PathLimit):
     speed: float | None = None
     acceleration: float | None = None
     angular_speed: float | None = None
+    angular_acceleration: float | None = None
     quantity: str = field(default="tool", init=False)
     _kinds: tuple[str, ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         _chain(self.chain)
         kinds = []
-        for name, unit in (("speed", "m/s"), ("acceleration", "m/s^2"),
-                           ("angular_speed", "rad/s")):  # fmt: skip
+        for name, unit in _UNITS.items():
             value = getattr(self, name)
             if value is None:
                 continue
@@ -299,17 +302,22 @@ class ToolLimit(PathLimit):
                 raise InvalidInputError(
                     f"tool {name} must be a single number > 0 ({unit}), got {value!r}"
                 )
+            if number < _SMALLEST:  # its square, which the rows bound, would be 0
+                raise InvalidInputError(
+                    f"tool {name} must be at least {_SMALLEST:.3g} {unit} (its square must "
+                    f"be a normal float64), got {float(number):.3g}"
+                )
             object.__setattr__(self, name, float(number))
             kinds.append(name)
         if not kinds:
             raise InvalidInputError(
-                "a ToolLimit needs at least one of speed, acceleration, angular_speed"
+                "a ToolLimit needs at least one of speed, acceleration, angular_speed, "
+                "angular_acceleration"
             )
         object.__setattr__(self, "_kinds", tuple(kinds))
 
     def components(self) -> list[tuple[str, str]]:  # noqa: D102 - see PathLimit
-        units = {"speed": "m/s", "acceleration": "m/s^2", "angular_speed": "rad/s"}
-        return [(f"tool {kind.replace('_', ' ')}", units[kind]) for kind in self._kinds]
+        return [(f"tool {kind.replace('_', ' ')}", _UNITS[kind]) for kind in self._kinds]
 
     def bounds(self) -> tuple[FloatArray, FloatArray]:  # noqa: D102 - see PathLimit
         upper = np.array([getattr(self, kind) for kind in self._kinds])
@@ -330,23 +338,28 @@ class ToolLimit(PathLimit):
             bound = np.maximum(upper[:, k], 0.0)
             if kind in ("speed", "angular_speed"):
                 # |v|² = |p'|² x: a bound on x at each point, squared.
-                rate = tangent[:, :3] if kind == "speed" else tangent[:, 3:]
+                rate = tangent[:, _ROWS[kind]]
                 b = (rate**2).sum(axis=1)
                 none = np.zeros_like(b)
                 parts.append((none, b, none, np.full_like(b, -np.inf), bound**2))
             else:
-                parts.append(self._acceleration_rows(jacobian, q, dq, ddq, tangent, bound))
+                part = _ROWS[kind]
+                parts.append(self._acceleration_rows(jacobian, q, dq, ddq, tangent[:, part],
+                                                     bound, part))  # fmt: skip
         # Each part's terms are a column (speeds) or a block of columns (directions).
         return tuple(np.column_stack([part[i] for part in parts])
                      for i in range(5))  # type: ignore[return-value]  # fmt: skip
 
     def _acceleration_rows(
         self, jacobian: FloatArray, q: FloatArray, dq: FloatArray, ddq: FloatArray,
-        tangent: FloatArray, bound: FloatArray,
+        linear: FloatArray, bound: FloatArray, part: slice,
     ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:  # fmt: skip
-        """The polygon inside the disc ``|p' u + p'' x| <= bound`` in their plane."""
-        linear = tangent[:, :3]
-        curve = self._linear_acceleration(jacobian, q, dq, ddq)
+        """The polygon inside the disc ``|p' u + p'' x| <= bound`` in their plane.
+
+        ``p`` is the tool's position (``part`` the Jacobian's linear rows) or, for
+        the turn, its rotation vector's rate (the angular rows); ``linear`` is ``p'``.
+        """
+        curve = self._tool_acceleration(jacobian, q, dq, ddq, part)
         # An orthonormal pair spanning p' and p'' (any pair where they vanish).
         first = _unit(linear, np.array([1.0, 0.0, 0.0]))
         rest = curve - (curve * first).sum(axis=1, keepdims=True) * first
@@ -364,11 +377,14 @@ class ToolLimit(PathLimit):
         high = np.repeat((bound * np.cos(np.pi / _DIRECTIONS))[:, None], _DIRECTIONS, axis=1)
         return on_u, on_x, np.zeros_like(on_u), np.full_like(on_u, -np.inf), high
 
-    def _linear_acceleration(self, jacobian: FloatArray, q: FloatArray, rate: FloatArray,
-                             second: FloatArray) -> FloatArray:  # fmt: skip
-        """``J q̈ + J̇ q̇`` (linear rows): the tool's acceleration, or ``p''`` along a path."""
-        jacobian_dot = self.chain.jacobian_dot(q, rate)[:, :3]
-        return (np.einsum("nkj,nj->nk", jacobian[:, :3], second)
+    def _tool_acceleration(self, jacobian: FloatArray, q: FloatArray, rate: FloatArray,
+                           second: FloatArray, part: slice) -> FloatArray:  # fmt: skip
+        """``J q̈ + J̇ q̇`` (the rows ``part``): the tool's acceleration, linear or angular.
+
+        Along a path (``q'`` and ``q''`` for ``q̇`` and ``q̈``) it is ``p''``.
+        """
+        jacobian_dot = self.chain.jacobian_dot(q, rate)[:, part]
+        return (np.einsum("nkj,nj->nk", jacobian[:, part], second)
                 + np.einsum("nkj,nj->nk", jacobian_dot, rate))  # fmt: skip
 
     def values(self, q: FloatArray, qd: FloatArray, qdd: FloatArray) -> FloatArray:  # noqa: D102
@@ -376,14 +392,22 @@ class ToolLimit(PathLimit):
         twist = np.einsum("nkj,nj->nk", jacobian, qd)
         out = []
         for kind in self._kinds:
-            if kind == "speed":
-                out.append(np.linalg.norm(twist[:, :3], axis=1))
-            elif kind == "angular_speed":
-                out.append(np.linalg.norm(twist[:, 3:], axis=1))
+            part = _ROWS[kind]
+            if kind in ("speed", "angular_speed"):
+                out.append(np.linalg.norm(twist[:, part], axis=1))
             else:
-                acc = self._linear_acceleration(jacobian, q, qd, qdd)
+                acc = self._tool_acceleration(jacobian, q, qd, qdd, part)
                 out.append(np.linalg.norm(acc, axis=1))
         return np.column_stack(out)
+
+
+#: The least tool bound whose square is a normal float64.
+_SMALLEST = float(np.sqrt(np.finfo(np.float64).tiny))
+#: Each tool quantity's unit, and the rows of the geometric Jacobian it comes from.
+_UNITS = {"speed": "m/s", "acceleration": "m/s^2", "angular_speed": "rad/s",
+          "angular_acceleration": "rad/s^2"}  # fmt: skip
+_ROWS = {"speed": slice(0, 3), "acceleration": slice(0, 3), "angular_speed": slice(3, 6),
+         "angular_acceleration": slice(3, 6)}  # fmt: skip
 
 
 def _unit(vectors: FloatArray, fallback: FloatArray) -> FloatArray:
