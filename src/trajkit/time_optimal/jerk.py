@@ -33,6 +33,17 @@ which leaves a straight line unchanged, is cut at the start: it begins exactly a
 ``(s_0, ṡ_0, s̈ = 0)``. The limits are then met by tightening the velocity and
 acceleration bounds the profile is computed under (by ``1/k`` and ``1/k²`` for
 the scale ``k`` the peaks ask for) and computing it again, a few rounds at most.
+
+**Torque and tool limits.** Step 1 keeps them as :func:`trajkit.time_optimal.topp`
+does; the average then moves speed onto neighbouring stretches of the path, where a
+torque or the tool's speed may pass its bound. So the smoothed result is measured
+against them (16 samples a piece and a curvature margin, as ``check``), and a bound it
+passes is moved in along the whole path, by the excess divided by the share of the
+last move that reached the peak, and the timing made again. Step 3 then only slows
+down: faster than the profile computed within those bounds would pass them again. A
+uniform slow-down keeps them: the tool's speed and acceleration shrink with it, and a
+torque ``g + d / k²`` moves from its value toward gravity's, which holds at every grid
+point (or the timing is refused by name).
 """
 
 from __future__ import annotations
@@ -56,6 +67,9 @@ __all__ = ["moving_average", "smoothed"]
 _WINDOWS = (0.5, 1.0, 2.0)
 #: Rounds of tightening the bounds for a timing with moving ends.
 _ROUNDS = 8
+#: A torque or tool bound moved in along the path keeps at least this share of the
+#: room between the value at rest and the bound on every interval.
+_KEEP = 0.01
 
 
 def smoothed(path: Trajectory, s: FloatArray, limits: Limits, stray: float,
@@ -130,7 +144,7 @@ def _rest_to_rest(
     velocity, acceleration, jerk = bounds
     limits = Limits(velocity=velocity, acceleration=acceleration, jerk=jerk)
     stops = np.searchsorted(s, rests)
-    bands = _bands_on(moved, s.size - 1)
+    bands = _bands_on(constraints, moved, path, s)
     x, rounds, _, _ = optimal_x(path, s, velocity, acceleration, stops=stops,
                                 constraints=constraints, bands=bands)  # fmt: skip
     speed, durations, u = phases(s, x)
@@ -162,14 +176,32 @@ def _rest_to_rest(
     return result, tuple(windows), rounds
 
 
-def _bands_on(moved: list, intervals: int) -> list | None:
-    """The moved bounds on every interval of a grid (None without constraints)."""
-    from trajkit.time_optimal import _Band
+def _bands_on(constraints: tuple[PathLimit, ...], moved: list, path: Trajectory,
+              s: FloatArray) -> list | None:  # fmt: skip
+    """The moved bounds on every interval of the grid ``s`` (None without constraints).
+
+    Moved along the whole path, a bound could pass what the arm needs at rest where it
+    is far from binding (gravity's torque near its limit): no interval would then be
+    crossed. So every interval keeps at least _KEEP of the room between the value at
+    rest and the bound, at its ends and middle.
+    """
+    from trajkit.time_optimal import _Band, _collocated
 
     if not moved:
         return None
-    return [_Band(np.repeat(band.lower, intervals, axis=0),
-                  np.repeat(band.upper, intervals, axis=0)) for band in moved]  # fmt: skip
+    q = _collocated(path, s)[1]
+    still = np.zeros_like(q)
+    out = []
+    for limit, band in zip(constraints, moved, strict=True):
+        lower, upper = limit.bounds()
+        rest = limit.values(q, still, still).reshape(s.size - 1, -1, lower.size)
+        # An unbounded side (the tool's lower) keeps its infinity.
+        keep_hi = (rest + _KEEP * (upper - rest)).max(axis=1)
+        keep_lo = (rest + _KEEP * (lower - rest)).min(axis=1)
+        count = s.size - 1
+        out.append(_Band(np.minimum(np.repeat(band.lower, count, axis=0), keep_lo),
+                         np.maximum(np.repeat(band.upper, count, axis=0), keep_hi)))  # fmt: skip
+    return out
 
 
 def _measured(constraints: tuple[PathLimit, ...], moved: list, timing: Trajectory) -> list:
@@ -281,7 +313,7 @@ def _held_ends(
     ceiling[held_start] = speeds[0] ** 2
     ceiling[held_end] = speeds[1] ** 2
     stops = np.searchsorted(grid, rests)
-    bands = _bands_on(moved or [], grid.size - 1)
+    bands = _bands_on(constraints, moved or [], path, grid)
     x, _, _, _ = optimal_x(path, grid, *bounds, speeds, stops=stops, ceiling=ceiling,
                            constraints=constraints, bands=bands)  # fmt: skip
     for held, speed in ((held_start, speeds[0]), (held_end, speeds[1])):
