@@ -554,6 +554,45 @@ def test_start_ns_and_topic_prefix_for_a_mobile_plan(tmp_path: Path) -> None:
         }
 
 
+@pytest.mark.parametrize("storage", ["mcap", "sqlite3"])
+def test_twist_stamped_commands_for_ros2_jazzy(tmp_path: Path, storage: str) -> None:
+    # Jazzy's diff_drive_controller and Nav2 take geometry_msgs/TwistStamped on /cmd_vel:
+    # the same twists, each stamped with its own bag time in the base's frame.
+    plan = _constant_twist()
+    start_ns = 1_796_634_000 * BILLION + 7
+    bag = write_bag(tmp_path / "bag", plan, start_ns=start_ns, cmd_vel="TwistStamped",
+                    base_frame="base_footprint", storage=storage)  # fmt: skip
+    readings = [_read(bag)]
+    if storage == "mcap":  # the independent reader too, with the schema names it saw
+        mcap = _read_mcap(bag)
+        assert _mcap_types(mcap)["/cmd_vel"] == {"geometry_msgs/msg/TwistStamped"}
+        readings.append(_strip(mcap))
+    for topics in readings:
+        entries = topics["/cmd_vel"]
+        assert all(_ns(m.header.stamp) == stamp for stamp, m in entries)
+        assert {m.header.frame_id for _, m in entries} == {"base_footprint"}
+        _assert_twists([(stamp, m.twist) for stamp, m in entries], plan, 10.0, start_ns)
+        _assert_path(topics["/plan"], plan, 0.1, start_ns, "odom")
+    with Reader(bag) as reader:
+        types = {c.topic: c.msgtype for c in reader.connections}
+    assert types == {"/plan": PATH, "/cmd_vel": "geometry_msgs/msg/TwistStamped"}
+
+
+@pytest.mark.parametrize(
+    ("plan", "kwargs", "message"),
+    [
+        (_constant_twist, {"cmd_vel": "twist"}, r"cmd_vel must be 'Twist' \(ROS 2 Humble\) or"),
+        (_constant_twist, {"cmd_vel": None}, "cmd_vel must be 'Twist'"),
+        (_constant_twist, {"base_frame": ""}, "base_frame must be a non-empty name"),
+        (_cubic, {"cmd_vel": "TwistStamped"}, "cmd_vel and base_frame are for mobile plans"),
+    ],
+)
+def test_bad_command_messages_are_refused(tmp_path: Path, plan, kwargs, message) -> None:
+    with pytest.raises(InvalidInputError, match=message):
+        write_bag(tmp_path / "bag", plan(), **kwargs)
+    assert not (tmp_path / "bag").exists()
+
+
 def test_the_metadata_counts_every_topic(tmp_path: Path) -> None:
     plan = _septic()
     bag = write_bag(tmp_path / "bag", plan, stream="point", rate_hz=20.0, storage="sqlite3")

@@ -481,6 +481,67 @@ def test_report_and_bag_are_written_with_the_files_or_not_at_all(tmp_path, monke
     assert {p.name: p.stat().st_mtime_ns for p in tmp_path.iterdir()} == before
 
 
+@pytest.mark.parametrize(
+    ("given", "expected_ns"),
+    [
+        ("2026-12-07T09:00:00Z", 1_796_634_000 * 10**9),
+        ("2026-12-07T11:00:00.25+02:00", 1_796_634_000 * 10**9 + 250_000_000),
+        ("1796634000", 1_796_634_000 * 10**9),
+        ("1796634000.5", 1_796_634_000_500_000_000),
+    ],
+)
+def test_a_bag_starts_when_the_scenario_says(given, expected_ns):
+    spec = scenario.parse(ARM + f"[outputs]\nros2_bag = true\nros2_start = {given}\n")
+    assert spec.outputs["ros2_start_ns"] == expected_ns
+
+
+@pytest.mark.parametrize(
+    ("given", "message"),
+    [
+        ("2026-12-07T09:00:00", "a date-time needs its offset from UTC, e.g. 2026-12-07T09:00:00Z"),
+        ("2026-12-07", "expected a date-time such as 2026-12-07T09:00:00Z or seconds"),
+        ('"tomorrow"', "expected a date-time such as"),
+        ("true", "expected a date-time such as"),
+        ("-1", "expected a time from 1970 to 2038-01-19"),
+        ("2040-01-01T00:00:00Z", "expected a time from 1970 to 2038-01-19"),
+        ("nan", "expected a date-time such as"),
+    ],
+)
+def test_a_bad_bag_start_is_refused_by_name(given, message):
+    with pytest.raises(ScenarioError) as caught:
+        scenario.parse(ARM + f"[outputs]\nros2_bag = true\nros2_start = {given}\n")
+    assert "outputs.ros2_start" in str(caught.value) and message in str(caught.value)
+
+
+def test_a_base_bag_with_twist_stamped_commands_from_its_start_time(tmp_path):
+    pytest.importorskip("rosbags", reason="rosbags is not installed: pip install 'trajkit[ros]'")
+    from rosbags.rosbag2 import Reader
+    from rosbags.typesys import Stores, get_typestore
+
+    text = GOTO_SCURVE + ('ros2_bag = true\nros2_cmd_vel = "TwistStamped"\n'
+                          "ros2_start = 2026-12-07T09:00:00Z\ncsv = false\n")  # fmt: skip
+    scenario.execute(scenario.parse(text), tmp_path, log=len)
+    types = get_typestore(Stores.ROS2_JAZZY)
+    with Reader(tmp_path / "goto_scurve_bag") as reader:
+        connections = {c.topic: c for c in reader.connections}
+        assert connections["/cmd_vel"].msgtype == "geometry_msgs/msg/TwistStamped"
+        first = {}
+        for connection, stamp, raw in reader.messages():
+            message = types.deserialize_cdr(raw, connection.msgtype)
+            first.setdefault(connection.topic, (stamp, message))
+    start = 1_796_634_000 * 10**9
+    assert first["/plan"][0] == start and first["/cmd_vel"][0] == start
+    command = first["/cmd_vel"][1]
+    assert command.header.stamp.sec == 1_796_634_000 and command.header.frame_id == "base_link"
+
+
+def test_command_messages_are_a_bases_and_named():
+    with pytest.raises(ScenarioError, match=r"outputs\.ros2_cmd_vel: expected one of"):
+        scenario.parse(GOTO_SCURVE + 'ros2_cmd_vel = "Stamped"\n')
+    with pytest.raises(ScenarioError, match=r"outputs\.ros2_cmd_vel: a base's commands"):
+        scenario.parse(ARM + '[outputs]\nros2_cmd_vel = "TwistStamped"\n')
+
+
 # Issue 16: goto's S-curve, extreme numbers ---------------------------------------------
 GOTO_SCURVE = """
 name = "goto_scurve"

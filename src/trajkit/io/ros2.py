@@ -3,8 +3,10 @@
 An arm plan becomes one ``trajectory_msgs/JointTrajectory`` message with all its
 points (what a ``joint_trajectory_controller`` takes), and optionally a stream of
 ``sensor_msgs/JointState`` (or ``trajectory_msgs/JointTrajectoryPoint``) messages
-at a controller rate. A mobile plan becomes a ``geometry_msgs/Twist`` command
-stream and one ``nav_msgs/Path``. Bags are MCAP by default (sqlite3 on request),
+at a controller rate. A mobile plan becomes a command stream on ``/cmd_vel``
+(``geometry_msgs/Twist`` as ROS 2 Humble's controllers take it, or
+``geometry_msgs/TwistStamped`` as Jazzy's ``diff_drive_controller`` and Nav2 do) and
+one ``nav_msgs/Path``. Bags are MCAP by default (sqlite3 on request),
 ROS 2 Humble message definitions; ``pip install "trajkit[ros]"``.
 
 A bag is a folder; it is written beside its destination under a temporary name
@@ -33,6 +35,7 @@ __all__ = ["Ros2Unavailable", "require_rosbags", "write_bag"]
 
 Storage = Literal["mcap", "sqlite3"]
 Stream = Literal["joint_state", "point"]
+Command = Literal["Twist", "TwistStamped"]
 #: Pieces up to this degree are reproduced exactly by a controller's quintic
 #: interpolation between points that carry position, velocity and acceleration.
 _QUINTIC = 5
@@ -80,6 +83,8 @@ def write_bag(
     start_ns: int = 0,
     frame_id: str = "odom",
     topic_prefix: str = "",
+    cmd_vel: Command = "Twist",
+    base_frame: str = "base_link",
 ) -> Path:
     """Write a plan as a ROS 2 bag (a folder).
 
@@ -112,6 +117,11 @@ def write_bag(
         Mobile plans: the ``Path``'s frame.
     topic_prefix : str
         Put before every topic name, e.g. ``"/robot1"``.
+    cmd_vel : {"Twist", "TwistStamped"}
+        Mobile plans: the command message. ``"Twist"`` for ROS 2 Humble,
+        ``"TwistStamped"`` (stamped with its bag time, in ``base_frame``) for Jazzy.
+    base_frame : str
+        Mobile plans: the ``TwistStamped`` commands' frame.
 
     Returns
     -------
@@ -143,13 +153,17 @@ def write_bag(
             "builtin_interfaces/Time counts seconds in 32 bits)"
         )
     if isinstance(plan, Trajectory):
+        if cmd_vel != "Twist" or base_frame != "base_link":
+            raise InvalidInputError("cmd_vel and base_frame are for mobile plans "
+                                    "(a MobileTrajectory)")  # fmt: skip
         messages = _arm_messages(
             types, plan, joint_names, sample_step, stream, rate_hz, int(start_ns)
         )
     elif isinstance(plan, MobileTrajectory):
         if joint_names is not None or stream is not None:
             raise InvalidInputError("joint_names and stream are for arm plans (a Trajectory)")
-        messages = _mobile_messages(types, plan, sample_step, rate_hz, int(start_ns), frame_id)
+        messages = _mobile_messages(types, plan, sample_step, rate_hz, int(start_ns), frame_id,
+                                    cmd_vel, base_frame)  # fmt: skip
     else:
         raise InvalidInputError(
             f"plan must be a Trajectory or a MobileTrajectory, got {type(plan).__name__}"
@@ -255,20 +269,31 @@ def _mobile_messages(
     rate_hz: float | None,
     start_ns: int,
     frame_id: str,
+    cmd_vel: Command = "Twist",
+    base_frame: str = "base_link",
 ) -> list[tuple[str, str, int, Any]]:
-    if not isinstance(frame_id, str) or not frame_id:
-        raise InvalidInputError(f"frame_id must be a non-empty name, got {frame_id!r}")
+    for name, value in (("frame_id", frame_id), ("base_frame", base_frame)):
+        if not isinstance(value, str) or not value:
+            raise InvalidInputError(f"{name} must be a non-empty name, got {value!r}")
+    if cmd_vel not in ("Twist", "TwistStamped"):
+        raise InvalidInputError(
+            f"cmd_vel must be 'Twist' (ROS 2 Humble) or 'TwistStamped' (Jazzy), got {cmd_vel!r}"
+        )
     rate = rate_hz if rate_hz is not None else plan.info.get("rate_hz") or 10.0
     times, twists = plan.commands(positive_scalar("rate_hz", rate, unit="Hz"))
     vector, twist = types.types["geometry_msgs/msg/Vector3"], types.types["geometry_msgs/msg/Twist"]
+    header = types.types["std_msgs/msg/Header"]
+    stamped_twist = types.types["geometry_msgs/msg/TwistStamped"]
     messages = []
     for t, (v, omega) in zip(_nanoseconds(times).tolist(), twists.tolist(), strict=True):
         message = twist(linear=vector(x=v, y=0.0, z=0.0), angular=vector(x=0.0, y=0.0, z=omega))
+        if cmd_vel == "TwistStamped":
+            message = stamped_twist(header=header(stamp=_stamp(types, start_ns + t, "Time"),
+                                                  frame_id=base_frame), twist=message)  # fmt: skip
         messages.append(("/cmd_vel", message.__msgtype__, start_ns + t, message))
     spacing = 0.1 if sample_step is None else positive_scalar("sample_step", sample_step, unit="s")
     ticks = sample_times(0.0, plan.duration, spacing) if plan.duration > 0 else np.zeros(1)
     poses = plan.pose(ticks)
-    header = types.types["std_msgs/msg/Header"]
     names = ("PoseStamped", "Pose", "Point", "Quaternion")
     stamped, pose, point, quaternion = (types.types[f"geometry_msgs/msg/{n}"] for n in names)
     path_poses = [

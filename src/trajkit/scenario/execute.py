@@ -176,8 +176,10 @@ def _write_bag(scenario: Scenario, robot: Any, plan: Any, path: Path) -> None:
     if scenario.mobile:
         rate = scenario.simulation.get("rate_hz") or scenario.task.get("rate_hz")
     names = None if scenario.mobile or robot is None else robot.names
+    mobile = {"cmd_vel": scenario.outputs["ros2_cmd_vel"]} if scenario.mobile else {}
     write_bag(path, plan, joint_names=names, stream=arm_stream, rate_hz=rate,
-              storage=scenario.outputs["storage"])  # fmt: skip
+              storage=scenario.outputs["storage"], start_ns=scenario.outputs["ros2_start_ns"],
+              **mobile)  # fmt: skip
 
 
 def _arm_limits(scenario: Scenario, robot: SerialChain | None = None) -> tk.Limits:

@@ -8,6 +8,8 @@ Parsing never runs code from the file and refuses unknown keys; every error is a
 
 from __future__ import annotations
 
+import datetime
+import math
 import os
 import tomllib
 from dataclasses import dataclass, field
@@ -77,7 +79,9 @@ class Scenario:
     outputs : dict
         ``csv``, ``json``, ``npz`` (samples), ``plot``, ``animation`` (none, gif or
         mp4) with ``animation_view``, ``animation_fps`` and ``animation_speed``,
-        ``ros2_bag``, ``ros2_stream``, ``storage`` (mcap or sqlite3), ``sample_step``
+        ``ros2_bag``, ``ros2_stream``, ``ros2_cmd_vel`` (Twist or TwistStamped),
+        ``ros2_start_ns`` (the bag time of the plan's start, from ``ros2_start``: a
+        date-time or seconds since 1970), ``storage`` (mcap or sqlite3), ``sample_step``
         (s, the data files' sampling step; None: the controller period, else 10 ms).
     source : Path or None
         The file it was read from.
@@ -161,6 +165,9 @@ def from_data(
     simulation = _simulation(root.table("simulation"), kind in MOBILE_TASKS)
     outputs = _outputs(root.table("outputs"))
     root.done()
+    if outputs["ros2_cmd_vel"] != "Twist" and kind not in MOBILE_TASKS:
+        raise ScenarioError("outputs.ros2_cmd_vel: a base's commands (/cmd_vel); an arm's bag "
+                            "holds /joint_trajectory")  # fmt: skip
     if not robot:
         if outputs["animation"] != "none":
             raise ScenarioError("outputs.animation: animating needs a [robot] table")
@@ -456,11 +463,42 @@ def _simulation(table: Table | None, mobile: bool) -> dict[str, Any]:
     return simulation
 
 
+#: The last second ROS time holds (builtin_interfaces/Time counts seconds in 32 bits).
+_LAST_SECOND = 2**31 - 1
+
+
+def _bag_start(table: Table) -> int:
+    """The bag time of the plan's start (ns): a TOML date-time with its offset, or seconds.
+
+    ``ros2_start = 2026-12-07T09:00:00Z`` or ``ros2_start = 1796634000`` (seconds since
+    1970, UTC); without it, 0 (1970-01-01).
+    """
+    if not table.has("ros2_start"):
+        return 0
+    given, where = table.value("ros2_start"), table.where("ros2_start")
+    if isinstance(given, datetime.datetime):
+        if given.tzinfo is None:
+            raise ScenarioError(f"{where}: a date-time needs its offset from UTC, e.g. "
+                                f"{given.isoformat()}Z")  # fmt: skip
+        since = given - datetime.datetime(1970, 1, 1, tzinfo=datetime.UTC)
+        nanoseconds = (since.days * 86_400 + since.seconds) * 10**9 + since.microseconds * 1000
+    elif isinstance(given, (int, float)) and not isinstance(given, bool) and math.isfinite(given):
+        nanoseconds = round(given * 10**9) if isinstance(given, float) else given * 10**9
+    else:
+        raise ScenarioError(f"{where}: expected a date-time such as 2026-12-07T09:00:00Z or "
+                            f"seconds since 1970, got {given!r}")  # fmt: skip
+    if not 0 <= nanoseconds <= _LAST_SECOND * 10**9:
+        raise ScenarioError(f"{where}: expected a time from 1970 to 2038-01-19 (ROS time counts "
+                            f"seconds in 32 bits), got {given!r}")  # fmt: skip
+    return int(nanoseconds)
+
+
 def _outputs(table: Table | None) -> dict[str, Any]:
     defaults = {"csv": True, "json": False, "npz": False, "plot": True, "animation": "none",
                 "animation_view": "3d", "animation_fps": 10.0,
                 "animation_speed": 1.0, "ros2_bag": False, "ros2_stream": "none",
-                "storage": "mcap", "sample_step": None}  # fmt: skip
+                "ros2_cmd_vel": "Twist", "ros2_start_ns": 0, "storage": "mcap",
+                "sample_step": None}  # fmt: skip
     if table is None:
         return defaults
     outputs = {
@@ -476,6 +514,8 @@ def _outputs(table: Table | None) -> dict[str, Any]:
         "ros2_stream": table.string(
             "ros2_stream", "none", choices=("none", "joint_state", "point")
         ),
+        "ros2_cmd_vel": table.string("ros2_cmd_vel", "Twist", choices=("Twist", "TwistStamped")),
+        "ros2_start_ns": _bag_start(table),
         "storage": table.string("storage", "mcap", choices=("mcap", "sqlite3")),
         "sample_step": table.number("sample_step", None, positive=True),
     }
