@@ -192,6 +192,7 @@ def test_only_the_blocks_needing_an_extra_may_skip():
     assert [(heading, need) for heading, need in needs if need] == [
         ("Physics simulation (MuJoCo)", [("mujoco", "sim")]),
         ("Animations, data and ROS 2 bags", [("rosbags", "ros")]),
+        ("Animations, data and ROS 2 bags", [("rosbags", "ros")]),  # reading bags back
     ]
 
 

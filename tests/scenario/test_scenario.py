@@ -402,16 +402,23 @@ def test_trajkit_run_on_a_missing_file(tmp_path, capsys):
     assert err.startswith("trajkit: error: ") and "no such file" in err.lower()
 
 
-def test_the_rrbot_example_bag_has_the_trajectory_and_a_joint_state_stream(tmp_path):
+def test_the_rrbot_example_bag_has_the_trajectory_and_the_simulated_joint_states(tmp_path):
     pytest.importorskip("rosbags", reason="rosbags is not installed: pip install 'trajkit[ros]'")
     pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
-    from rosbags.rosbag2 import Reader
+    from trajkit.io.ros2_read import read_bag
 
     outcome = scenario.run(scenario.EXAMPLES / "seed000_rrbot_cubic.toml", tmp_path, log=len)
-    with Reader(tmp_path / "seed000_rrbot_cubic_bag") as reader:
-        counts = {c.topic: c.msgcount for c in reader.connections}
-    # 11.17 s at the stream's default 100 Hz: 1118 states, the end included.
-    assert counts == {"/joint_trajectory": 1, "/joint_states": 1118}
+    bag = read_bag(tmp_path / "seed000_rrbot_cubic_bag")
+    # /joint_states is the simulated arm's, at its 1 kHz control rate over 11.17 s (the
+    # plan's own joint-state stream once stood there, passing for the robot's).
+    run = outcome.log
+    assert {topic: count for topic, (_, count) in bag.topics.items()} == {
+        "/joint_trajectory": 1, "/joint_states": run.t.size,
+        "/position_servo_controller/commands": run.t.size}  # fmt: skip
+    states = bag.joint_states()
+    np.testing.assert_array_equal(states.position, run.actual)
+    np.testing.assert_array_equal(states.effort, run.efforts)
+    assert np.abs(states.position - run.desired).max() > 1e-3  # the servo lags: not the plan
     assert outcome.report.ok
 
 
@@ -533,6 +540,13 @@ def test_a_base_bag_with_twist_stamped_commands_from_its_start_time(tmp_path):
     assert first["/plan"][0] == start and first["/cmd_vel"][0] == start
     command = first["/cmd_vel"][1]
     assert command.header.stamp.sec == 1_796_634_000 and command.header.frame_id == "base_link"
+
+
+def test_a_plan_stream_cannot_pass_for_the_simulated_arm():
+    text = ARM + '[simulation]\nengine = "mujoco"\n[outputs]\nros2_bag = true\n'
+    with pytest.raises(ScenarioError, match=r"outputs\.ros2_stream: with a MuJoCo simulation"):
+        scenario.parse(text + 'ros2_stream = "joint_state"\n')
+    assert scenario.parse(text + 'ros2_stream = "point"\n').outputs["ros2_stream"] == "point"
 
 
 def test_command_messages_are_a_bases_and_named():

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 import trajkit
+from trajkit.cli.bag import add_bag_command, run_bag
 from trajkit.cli.mobile import add_mobile_commands, run_mobile
 from trajkit.cli.sim import (
     add_sim_options,
@@ -147,6 +148,7 @@ def _build_parser() -> _Parser:
                           help="also write a self-contained index.html of the run")  # fmt: skip
 
     add_sweep_command(commands)
+    add_bag_command(commands, _numbers)
 
     demo = commands.add_parser("demo", help="run the worked examples and write their outputs")
     demo.add_argument(
@@ -182,6 +184,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 "mobile": run_mobile,
                 "run": _run_scenario,
                 "sweep": run_sweep,
+                "bag": run_bag,
                 "demo": _demo,
             }
             handler = handlers[args.command]

@@ -6,7 +6,8 @@ points (what a ``joint_trajectory_controller`` takes), and optionally a stream o
 at a controller rate. A mobile plan becomes a command stream on ``/cmd_vel``
 (``geometry_msgs/Twist`` as ROS 2 Humble's controllers take it, or
 ``geometry_msgs/TwistStamped`` as Jazzy's ``diff_drive_controller`` and Nav2 do) and
-one ``nav_msgs/Path``. Bags are MCAP by default (sqlite3 on request),
+one ``nav_msgs/Path``. With a simulated run (``run=``), the bag also holds what the
+simulated robot did (:func:`write_bag`). Bags are MCAP by default (sqlite3 on request),
 ROS 2 Humble message definitions; ``pip install "trajkit[ros]"``.
 
 A bag is a folder; it is written beside its destination under a temporary name
@@ -85,8 +86,9 @@ def write_bag(
     topic_prefix: str = "",
     cmd_vel: Command = "Twist",
     base_frame: str = "base_link",
+    run: Any = None,
 ) -> Path:
-    """Write a plan as a ROS 2 bag (a folder).
+    """Write a plan as a ROS 2 bag (a folder), and what a simulated robot did with it.
 
     Parameters
     ----------
@@ -121,7 +123,21 @@ def write_bag(
         Mobile plans: the command message. ``"Twist"`` for ROS 2 Humble,
         ``"TwistStamped"`` (stamped with its bag time, in ``base_frame``) for Jazzy.
     base_frame : str
-        Mobile plans: the ``TwistStamped`` commands' frame.
+        Mobile plans: the base's frame (``TwistStamped`` commands, odometry, TF).
+    run : trajkit.sim.ArmLog, trajkit.sim.PhysicsLog or trajkit.mobile.SimulationLog, optional
+        A simulated run of the plan, stamped with the simulation clock from
+        ``start_ns`` (the plan's start). An arm's: ``/joint_states`` of the simulated
+        joints (positions, velocities, efforts) and the commands sent to its
+        actuators, as ``std_msgs/Float64MultiArray`` on
+        ``/<controller>_controller/commands`` (``/position_servo_controller/commands``
+        for the position servos, say). A base's: the commands sent on
+        ``/cmd_vel`` (instead of the plan's), ``nav_msgs/Odometry`` on ``/odom``
+        (from the wheel encoders of a MuJoCo run, else the simulated pose; its twist
+        from the change of pose over each row, in the base's frame) with the same
+        ``odom`` to ``base_frame`` transform on ``/tf``; for a MuJoCo run also the
+        simulator's true pose on ``/ground_truth`` and the wheels' measured speeds
+        and torques on ``/joint_states``. A plan stream on ``/joint_states`` is then
+        refused (it would be read as the robot's).
 
     Returns
     -------
@@ -156,6 +172,11 @@ def write_bag(
         if cmd_vel != "Twist" or base_frame != "base_link":
             raise InvalidInputError("cmd_vel and base_frame are for mobile plans "
                                     "(a MobileTrajectory)")  # fmt: skip
+        if run is not None and stream == "joint_state":
+            raise InvalidInputError(
+                "stream='joint_state' puts the plan on /joint_states, where the simulated "
+                "run's joint states go: use stream='point' (or no stream) with run="
+            )
         messages = _arm_messages(
             types, plan, joint_names, sample_step, stream, rate_hz, int(start_ns)
         )
@@ -168,6 +189,13 @@ def write_bag(
         raise InvalidInputError(
             f"plan must be a Trajectory or a MobileTrajectory, got {type(plan).__name__}"
         )
+    if run is not None:
+        from trajkit.io.ros2_run import run_messages
+
+        names = next((message.joint_names for topic, _, _, message in messages
+                      if topic == "/joint_trajectory"), None)  # fmt: skip
+        messages = run_messages(types, plan, run, int(start_ns), messages, names, cmd_vel,
+                                base_frame, frame_id)  # fmt: skip
     plugin = plugins.MCAP if storage == "mcap" else plugins.SQLITE3
     return _atomic_bag(Path(path), writer_class, plugin, types, messages, topic_prefix)
 
@@ -281,16 +309,9 @@ def _mobile_messages(
         )
     rate = rate_hz if rate_hz is not None else plan.info.get("rate_hz") or 10.0
     times, twists = plan.commands(positive_scalar("rate_hz", rate, unit="Hz"))
-    vector, twist = types.types["geometry_msgs/msg/Vector3"], types.types["geometry_msgs/msg/Twist"]
+    messages = command_messages(types, start_ns + _nanoseconds(times), twists, cmd_vel,
+                                base_frame)  # fmt: skip
     header = types.types["std_msgs/msg/Header"]
-    stamped_twist = types.types["geometry_msgs/msg/TwistStamped"]
-    messages = []
-    for t, (v, omega) in zip(_nanoseconds(times).tolist(), twists.tolist(), strict=True):
-        message = twist(linear=vector(x=v, y=0.0, z=0.0), angular=vector(x=0.0, y=0.0, z=omega))
-        if cmd_vel == "TwistStamped":
-            message = stamped_twist(header=header(stamp=_stamp(types, start_ns + t, "Time"),
-                                                  frame_id=base_frame), twist=message)  # fmt: skip
-        messages.append(("/cmd_vel", message.__msgtype__, start_ns + t, message))
     spacing = 0.1 if sample_step is None else positive_scalar("sample_step", sample_step, unit="s")
     ticks = sample_times(0.0, plan.duration, spacing) if plan.duration > 0 else np.zeros(1)
     poses = plan.pose(ticks)
@@ -307,6 +328,22 @@ def _mobile_messages(
         header=header(stamp=_stamp(types, start_ns, "Time"), frame_id=frame_id), poses=path_poses
     )
     messages.insert(0, ("/plan", path.__msgtype__, start_ns, path))
+    return messages
+
+
+def command_messages(types: Any, stamps: np.ndarray, twists: FloatArray, cmd_vel: Command,
+                     base_frame: str) -> list[tuple[str, str, int, Any]]:  # fmt: skip
+    """``(v, ω)`` commands on ``/cmd_vel`` at the bag times ``stamps`` (ns)."""
+    vector, twist = types.types["geometry_msgs/msg/Vector3"], types.types["geometry_msgs/msg/Twist"]
+    header = types.types["std_msgs/msg/Header"]
+    stamped_twist = types.types["geometry_msgs/msg/TwistStamped"]
+    messages = []
+    for stamp, (v, omega) in zip(stamps.tolist(), twists.tolist(), strict=True):
+        message = twist(linear=vector(x=v, y=0.0, z=0.0), angular=vector(x=0.0, y=0.0, z=omega))
+        if cmd_vel == "TwistStamped":
+            message = stamped_twist(header=header(stamp=_stamp(types, stamp, "Time"),
+                                                  frame_id=base_frame), twist=message)  # fmt: skip
+        messages.append(("/cmd_vel", message.__msgtype__, stamp, message))
     return messages
 
 

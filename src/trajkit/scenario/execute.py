@@ -129,7 +129,8 @@ def execute(
         summary = stage.path(stem.with_name(f"{scenario.name}_summary.txt"))
         summary.write_text("\n".join(lines) + "\n", encoding="utf-8")
         if scenario.outputs["ros2_bag"]:
-            _write_bag(scenario, robot, plan, stage.folder(stem.with_name(f"{scenario.name}_bag")))
+            _write_bag(scenario, robot, plan, run,
+                       stage.folder(stem.with_name(f"{scenario.name}_bag")))  # fmt: skip
         outcome = Outcome(plan, checked, run, list(stage.targets), lines)
         if report:
             from trajkit.viz.report import write_report
@@ -165,7 +166,12 @@ def preflight(scenario: Scenario) -> None:
         mujoco_module()
 
 
-def _write_bag(scenario: Scenario, robot: Any, plan: Any, path: Path) -> None:
+def _write_bag(scenario: Scenario, robot: Any, plan: Any, run: Any, path: Path) -> None:
+    """The plan's bag and, after a simulation, what the simulated robot did.
+
+    With a simulated arm, ``/joint_states`` is the simulated joints' (parsing refuses a
+    ``joint_state`` stream of the plan there).
+    """
     from trajkit.io.ros2 import write_bag
 
     stream = scenario.outputs["ros2_stream"]
@@ -179,7 +185,7 @@ def _write_bag(scenario: Scenario, robot: Any, plan: Any, path: Path) -> None:
     mobile = {"cmd_vel": scenario.outputs["ros2_cmd_vel"]} if scenario.mobile else {}
     write_bag(path, plan, joint_names=names, stream=arm_stream, rate_hz=rate,
               storage=scenario.outputs["storage"], start_ns=scenario.outputs["ros2_start_ns"],
-              **mobile)  # fmt: skip
+              run=run, **mobile)  # fmt: skip
 
 
 def _arm_limits(scenario: Scenario, robot: SerialChain | None = None) -> tk.Limits:

@@ -165,6 +165,10 @@ def from_data(
     simulation = _simulation(root.table("simulation"), kind in MOBILE_TASKS)
     outputs = _outputs(root.table("outputs"))
     root.done()
+    if outputs["ros2_stream"] == "joint_state" and simulation.get("engine") == "mujoco":
+        raise ScenarioError("outputs.ros2_stream: with a MuJoCo simulation the bag's "
+                            "/joint_states is the simulated arm's; the plan's stream would "
+                            "pass for it: use 'point' or 'none'")  # fmt: skip
     if outputs["ros2_cmd_vel"] != "Twist" and kind not in MOBILE_TASKS:
         raise ScenarioError("outputs.ros2_cmd_vel: a base's commands (/cmd_vel); an arm's bag "
                             "holds /joint_trajectory")  # fmt: skip

@@ -26,6 +26,7 @@ from trajkit.samples import Samples
 from trajkit.trajectory import Trajectory
 
 if TYPE_CHECKING:
+    from trajkit.io.ros2_read import JointStates
     from trajkit.kinematics.chain import SerialChain
     from trajkit.mobile.simulate import SimulationLog
     from trajkit.mobile.trajectory import MobileTrajectory
@@ -39,6 +40,7 @@ __all__ = [
     "mobile",
     "mobile_path",
     "profiles",
+    "recorded",
     "save",
     "task_space",
     "tracking",
@@ -482,6 +484,76 @@ def tracking(
     ylabels = (f"position [{unit}]", f"error q − q_d [{unit}]", f"effort [{effort}]")
     _label_time_panels(axes, ylabels, "best", 2)
     axes[0].set_title(title or f"{log.controller}: desired against actual")
+    return figure
+
+
+def recorded(
+    states: JointStates,
+    plan: Trajectory | None = None,
+    *,
+    degrees: bool = False,
+    limits: Limits | None = None,
+    title: str | None = None,
+    width: float = 8.0,
+) -> Figure:
+    """Recorded joint states (a bag's) against the plan they followed.
+
+    Parameters
+    ----------
+    states : trajkit.io.ros2_read.JointStates
+    plan : Trajectory, optional
+        What was commanded (a bag's joint trajectory), on the same clock.
+    degrees : bool
+        Angles in degrees (else radians).
+    limits : Limits, optional
+        Velocity bounds drawn on the velocity panel, named in the legend.
+    title : str, optional
+    width : float
+        Figure width (inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Panels against time: position and velocity (plan dashed, recorded solid),
+        then the tracking error when there is a plan and the effort when the states
+        carry it; one color per joint.
+    """
+    positive_scalar("width", width)
+    scale, unit = (180.0 / np.pi, "deg") if degrees else (1.0, "rad")
+    panels = [("position", f"position [{unit}]", states.position, 0),
+              ("velocity", f"velocity [{unit}/s]", states.velocity, 1)]  # fmt: skip
+    panels = [panel for panel in panels if panel[2] is not None]
+    if plan is not None and states.position is not None:
+        panels.append(("error", f"error q − q_d [{unit}]", None, 0))
+    if states.effort is not None:
+        panels.append(("effort", "effort [N·m | N]", states.effort, -1))
+    if not panels:
+        raise InvalidInputError("the joint states carry no positions, velocities or efforts")
+    figure, axes = _stacked(width, 2.4 * len(panels) + 0.4, len(panels))
+    dense = None if plan is None else np.clip(states.t, plan.start_time, plan.end_time)
+    for ax, (kind, _, values, order) in zip(axes, panels, strict=True):
+        for j, name in enumerate(states.names):
+            color = f"C{j % 10}"
+            if kind == "error":
+                error = states.position[:, j] - plan.evaluate(dense, 0)[:, j]
+                ax.plot(states.t, error * scale, color=color, label=name)
+                continue
+            factor = 1.0 if kind == "effort" else scale
+            if plan is not None and order >= 0:
+                t = _dense_times(plan)
+                ax.plot(t, plan.evaluate(t, order)[:, j] * factor, "--", color=color,
+                        label=f"{name} plan")  # fmt: skip
+            both = plan is not None and order >= 0
+            ax.plot(states.t, values[:, j] * factor, color=color,
+                    label=f"{name} recorded" if both else name)  # fmt: skip
+        if kind == "velocity" and limits is not None and limits.velocity is not None:
+            lower, upper = limits.velocity.for_ndof("velocity", len(states.names))
+            for side, text in ((lower, "lower"), (upper, "upper")):
+                ax.axhline(float(np.min(side) if text == "lower" else np.max(side)) * scale,
+                           color="black", linestyle=":", linewidth=1.0,
+                           label=f"velocity limit ({text})")  # fmt: skip
+    _label_time_panels(axes, [panel[1] for panel in panels], "best", 2)
+    axes[0].set_title(title or ("recorded against the plan" if plan is not None else "recorded"))
     return figure
 
 

@@ -1,0 +1,103 @@
+"""``trajkit bag``: read a ROS 2 bag back, check it against limits, plot it against its plan."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["add_bag_command", "run_bag"]
+
+#: Exit status when the recorded run or its trajectory breaks a limit (as ``run``).
+EXIT_LIMITS = 1
+
+
+def add_bag_command(commands: argparse._SubParsersAction, numbers: object) -> None:
+    """Register ``trajkit bag``; ``numbers`` parses a list flag ("1,2" or "1 2")."""
+    bag = commands.add_parser(
+        "bag", help="read a ROS 2 bag: its topics, a check against limits, a plot",
+        description="List a ROS 2 bag's topics and read its joint trajectory (as a joint "
+        "trajectory controller interpolates its points) and joint states. With limits, "
+        "check both: the trajectory exactly, the recorded states at their samples. "
+        "Needs pip install \"trajkit[ros]\".",
+    )  # fmt: skip
+    bag.add_argument("bag", type=Path, help="the bag folder (with its metadata.yaml)")
+    bag.add_argument("--trajectory", default="/joint_trajectory",
+                     help="the JointTrajectory topic (default /joint_trajectory)")  # fmt: skip
+    bag.add_argument("--states", default="/joint_states",
+                     help="the JointState topic (default /joint_states)")  # fmt: skip
+    for flag, meaning in (("--vmax", "velocity bound (rad/s, or deg/s with --deg)"),
+                          ("--amax", "acceleration bound of the trajectory (rad/s²)"),
+                          ("--effort", "effort bound of the states (N·m)")):  # fmt: skip
+        bag.add_argument(flag, type=numbers, nargs="+", metavar="X",
+                         help=f"{meaning}; one number or one per joint")  # fmt: skip
+    bag.add_argument("--deg", action="store_true", help="limits and the plot in degrees")
+    bag.add_argument("--plot", type=Path, help="write the states against the trajectory "
+                     "(.png, .svg or .pdf)")  # fmt: skip
+
+
+def run_bag(args: argparse.Namespace) -> int:
+    """Carry out ``trajkit bag``; errors propagate to the CLI's one-line handler."""
+    import trajkit as tk
+    from trajkit.errors import InvalidInputError
+    from trajkit.io.ros2_read import read_bag
+
+    bag = read_bag(args.bag)
+    print(f"{args.bag}: {len(bag.topics)} topic(s)")
+    for topic, (kind, count) in sorted(bag.topics.items()):
+        print(f"  {topic}: {count} × {kind}")
+    scale = np.pi / 180.0 if args.deg else 1.0
+
+    def bound(values: list[list[float]] | None, angular: bool = True) -> object:
+        if values is None:
+            return None
+        flat = np.array([v for group in values for v in group], dtype=float)
+        flat = flat * (scale if angular else 1.0)
+        return flat[0] if flat.size == 1 else flat  # one number: every joint
+
+    limits = tk.Limits(velocity=bound(args.vmax), acceleration=bound(args.amax))
+    effort = bound(args.effort, angular=False)
+    plan = states = None
+    ok = True
+    if args.trajectory in bag.topics:
+        plan = bag.joint_trajectory(args.trajectory)
+        print(f"{args.trajectory}: {plan.breakpoints.size} points over {plan.duration:.6g} s, "
+              f"{plan.info['interpolation']} interpolation")  # fmt: skip
+        if args.vmax is not None or args.amax is not None:
+            report = plan.check(limits)
+            ok = ok and report.ok
+            print(f"  trajectory limit check: {'OK' if report.ok else 'FAILED'}")
+            for violation in report.violations:
+                print(f"    {violation}")
+    if args.states in bag.topics:
+        states = bag.joint_states(args.states)
+        print(f"{args.states}: {states.t.size} states of {len(states.names)} joint(s) over "
+              f"{states.t[-1] - states.t[0]:.6g} s")  # fmt: skip
+        if plan is not None and states.position is not None:
+            inside = np.clip(states.t, plan.start_time, plan.end_time)
+            error = np.abs(states.position - plan.evaluate(inside)).max(axis=0)
+            unit = "deg" if args.deg else "rad"
+            print("  largest |q − q_plan|: " + ", ".join(
+                f"{name} {value / scale:.3g} {unit}" for name, value in zip(
+                    states.names, error, strict=True)))  # fmt: skip
+        if args.vmax is not None or effort is not None:
+            report = states.check(limits, effort=effort)
+            ok = ok and report.ok
+            print(f"  recorded limit check (samples): {'OK' if report.ok else 'FAILED'}")
+            for violation in report.violations:
+                print(f"    {violation}")
+    if plan is None and states is None:
+        raise InvalidInputError(
+            f"the bag has neither {args.trajectory} nor {args.states}: name the topics with "
+            "--trajectory and --states"
+        )
+    if args.plot is not None:
+        if states is None:
+            raise InvalidInputError(f"--plot draws the joint states: the bag has no {args.states}")
+        figure = tk.plot.recorded(states, plan, degrees=args.deg,
+                                  limits=limits if args.vmax is not None else None,
+                                  title=str(args.bag.name))  # fmt: skip
+        tk.plot.save(figure, args.plot)
+        print(f"wrote {args.plot}")
+    return 0 if ok else EXIT_LIMITS
