@@ -324,3 +324,20 @@ def test_property_recorded_plot_has_units_and_both_curves(tmp_path: Path, seed: 
     legend = [text.get_text() for text in figure.axes[1].get_legend().get_texts()]
     assert "j0 plan" in legend and "j0 recorded" in legend and "velocity limit (upper)" in legend
     assert figure.axes[-1].get_xlabel() == "time [s]"
+
+
+def test_trajkit_bag_executes_the_points_in_mujoco(tmp_path: Path, capsys) -> None:
+    pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
+    plan = tk.quintic(np.zeros(2), [0.6, -0.4], 1.0)
+    bag = write_bag(tmp_path / "bag", plan)
+    outputs = [tmp_path / "tracking.png", tmp_path / "tracking.csv"]
+    status = main(["bag", str(bag), "--sim", "mujoco", "--robot", "rrbot", "--control-rate-hz",
+                   "500", "--sim-plot", str(outputs[0]), "--sim-csv", str(outputs[1])])  # fmt: skip
+    out = capsys.readouterr().out
+    assert status == 0
+    assert "executed on RRBot in MuJoCo as the controller interpolates the points" in out
+    assert "RMS error" in out and all(path.stat().st_size > 1000 for path in outputs)
+    assert main(["bag", str(bag), "--sim-plot", str(tmp_path / "x.png")]) == 2
+    assert "need(s) --sim mujoco" in capsys.readouterr().err
+    assert main(["bag", str(bag), "--sim", "mujoco", "--robot", "ur5"]) == 2
+    assert "--robot ur5 has 6 joints but the move has 2" in capsys.readouterr().err

@@ -8,6 +8,7 @@ writes the data back as TOML text, so the mutated file can go through the CLI.
 from __future__ import annotations
 
 import copy
+import datetime
 import json
 import math
 import re
@@ -68,6 +69,8 @@ def _value(value: object) -> str:
         return "[" + ", ".join(_value(item) for item in value) + "]"
     if isinstance(value, dict):
         return "{" + ", ".join(f"{_key(k)} = {_value(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, datetime.date | datetime.time):  # TOML's own date-times
+        return value.isoformat()
     raise TypeError(f"no TOML for {type(value).__name__}")
 
 

@@ -308,7 +308,7 @@ def _missing_output_folders(args: argparse.Namespace) -> list[Path]:
 
     Those the command creates are removed again if it fails before writing into them.
     """
-    if args.command not in ("plan", "mobile", "run", "demo"):
+    if args.command not in ("plan", "mobile", "run", "demo", "bag"):
         return []
     missing: list[Path] = []
     for flag in ("out", "frames"):

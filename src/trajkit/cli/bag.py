@@ -7,6 +7,15 @@ from pathlib import Path
 
 import numpy as np
 
+from trajkit.cli.sim import (
+    add_sim_options,
+    check_sim_options,
+    render_or_note,
+    simulate_arm,
+    write_frames,
+)
+from trajkit.io.atomic import staged_files
+
 __all__ = ["add_bag_command", "run_bag"]
 
 #: Exit status when the recorded run or its trajectory breaks a limit (as ``run``).
@@ -35,6 +44,8 @@ def add_bag_command(commands: argparse._SubParsersAction, numbers: object) -> No
     bag.add_argument("--deg", action="store_true", help="limits and the plot in degrees")
     bag.add_argument("--plot", type=Path, help="write the states against the trajectory "
                      "(.png, .svg or .pdf)")  # fmt: skip
+    # --sim mujoco: the points executed as the controller plays them, on a simulated arm.
+    add_sim_options(bag, arm=True)
 
 
 def run_bag(args: argparse.Namespace) -> int:
@@ -43,6 +54,10 @@ def run_bag(args: argparse.Namespace) -> int:
     from trajkit.errors import InvalidInputError
     from trajkit.io.ros2_read import read_bag
 
+    for flag, path in (("--plot", args.plot), ("--sim-plot", args.sim_plot)):
+        if path is not None and path.suffix.lower() not in {".png", ".svg", ".pdf"}:
+            raise InvalidInputError(f"{flag} must end in .png, .svg or .pdf, got {path.name!r}")
+    check_sim_options(args)
     bag = read_bag(args.bag)
     print(f"{args.bag}: {len(bag.topics)} topic(s)")
     for topic, (kind, count) in sorted(bag.topics.items()):
@@ -92,12 +107,30 @@ def run_bag(args: argparse.Namespace) -> int:
             f"the bag has neither {args.trajectory} nor {args.states}: name the topics with "
             "--trajectory and --states"
         )
-    if args.plot is not None:
-        if states is None:
-            raise InvalidInputError(f"--plot draws the joint states: the bag has no {args.states}")
-        figure = tk.plot.recorded(states, plan, degrees=args.deg,
-                                  limits=limits if args.vmax is not None else None,
-                                  title=str(args.bag.name))  # fmt: skip
-        tk.plot.save(figure, args.plot)
-        print(f"wrote {args.plot}")
+    if args.plot is not None and states is None:
+        raise InvalidInputError(f"--plot draws the joint states: the bag has no {args.states}")
+    scene = log = None
+    if args.sim == "mujoco":
+        if plan is None:
+            raise InvalidInputError(f"--sim mujoco runs the bag's joint trajectory: the bag has "
+                                    f"no {args.trajectory}")  # fmt: skip
+        scene, log = simulate_arm(args, plan)
+        print(f"executed on {scene.robot.name} in MuJoCo as the controller interpolates the "
+              f"points, {log.summary()}")  # fmt: skip
+    images = render_or_note(scene, log, args.frames)
+    with staged_files() as stage:
+        if args.plot is not None:
+            figure = tk.plot.recorded(states, plan, degrees=args.deg,
+                                      limits=limits if args.vmax is not None else None,
+                                      title=str(args.bag.name))  # fmt: skip
+            tk.plot.save(figure, stage.path(args.plot))
+        if log is not None and args.sim_csv is not None:
+            log.to_csv(stage.path(args.sim_csv))
+        if log is not None and args.sim_plot is not None:
+            title = f"{args.bag.name} on {scene.robot.name}, {log.controller}"
+            tk.plot.save(tk.plot.tracking(log, degrees=args.deg, title=title),
+                         stage.path(args.sim_plot))  # fmt: skip
+        write_frames(images, args.frames, stage)
+    for path in stage.targets:
+        print(f"wrote {path}")
     return 0 if ok else EXIT_LIMITS
