@@ -337,7 +337,8 @@ def test_animate_arm_refuses_what_is_not_a_joint_trajectory(tmp_path: Any) -> No
     with pytest.raises(tk.InvalidInputError) as caught:
         animate.arm(robot, [0.0, 1.0], tmp_path / "x.gif")
     assert str(caught.value) == (
-        "trajectory must be a trajkit Trajectory or a taskspace JointSpacePlan, got list"
+        "trajectory must be a trajkit Trajectory, a taskspace JointSpacePlan or a "
+        "trajkit.sim.ArmLog, got list"
     )
     with pytest.raises(
         tk.InvalidInputError, match=r"^trajectory has 1 joints but the robot has 3$"

@@ -455,12 +455,22 @@ def test_to_csv_round_trips_at_full_precision(logs, tmp_path):
     np.testing.assert_array_equal(table, expected)
 
 
-def test_tracking_plot_has_three_panels(logs):
-    figure = tk.plot.tracking(logs["position"])
+def test_tracking_plot_has_position_velocity_error_and_effort_panels(logs):
+    log = logs["position"]
+    figure = tk.plot.tracking(log)
     assert isinstance(figure, Figure)
-    assert len(figure.get_axes()) == 3
-    # Each panel has one curve per joint at least (positions: desired and actual).
-    assert [len(ax.get_lines()) >= 2 for ax in figure.get_axes()] == [True] * 3
+    axes = figure.get_axes()
+    assert [ax.get_ylabel() for ax in axes] == ["position [deg]", "velocity [deg/s]",
+                                                "error q − q_d [deg]", "effort [N·m]"]  # fmt: skip
+    # Positions and velocities: desired dashed and actual solid for every joint.
+    for ax, (desired, actual) in zip(axes[:2], ((log.desired, log.actual),
+                                               (log.desired_velocity, log.actual_velocity)),
+                                     strict=True):  # fmt: skip
+        lines = ax.get_lines()
+        assert [line.get_linestyle() for line in lines] == ["--", "-"] * log.desired.shape[1]
+        np.testing.assert_allclose(lines[1].get_ydata(), np.degrees(actual[:, 0]))
+        np.testing.assert_allclose(lines[0].get_ydata(), np.degrees(desired[:, 0]))
+    assert [len(ax.get_lines()) >= 2 for ax in axes] == [True] * 4
 
 
 @pytest.mark.parametrize("log", [None, seed_000(), "log"])
@@ -536,4 +546,5 @@ def test_slide_joints_are_reported_in_metres_and_newtons(tmp_path):
         assert column in header.split(",")
     figure = tk.plot.tracking(log)
     assert figure.get_axes()[0].get_ylabel() == "position [deg | m]"
-    assert figure.get_axes()[2].get_ylabel() == "effort [N | N·m]"
+    assert figure.get_axes()[1].get_ylabel() == "velocity [deg/s | m/s]"
+    assert figure.get_axes()[3].get_ylabel() == "effort [N | N·m]"

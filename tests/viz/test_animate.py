@@ -47,6 +47,45 @@ def test_speed_plays_faster_and_the_end_is_always_shown(tmp_path):
     assert count == 6
 
 
+def test_arm_from_a_mujoco_log_draws_what_the_simulated_arm_did(tmp_path, monkeypatch):
+    pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
+    from trajkit import sim
+    from trajkit.kinematics import drawing
+
+    robot = RRBot()
+    log = sim.run(sim.arm_scene(robot), PLAN, control_rate_hz=100.0)
+    drawn = []
+    original = drawing.link_positions
+
+    def spy(chain, trajectory, t):
+        drawn.append(trajectory(t))
+        return original(chain, trajectory, t)
+
+    monkeypatch.setattr(drawing, "link_positions", spy)
+    path = animate.arm(robot, log, tmp_path / "run.gif", fps=5, size=2.0)
+    assert frames_of(path)[0] == 11
+    # The frames show the simulated joints at their own samples (0.2 s apart), not the plan.
+    np.testing.assert_allclose(drawn[0], log.actual[::20], rtol=0, atol=1e-12)
+    assert np.abs(drawn[0] - PLAN(log.t[::20])).max() > 1e-4
+
+
+def test_arm_axes_are_in_metres(tmp_path, monkeypatch):
+    from matplotlib.figure import Figure
+
+    figures = []
+
+    made = Figure.add_subplot
+
+    def keep(self, *args, **kwargs):
+        figures.append(made(self, *args, **kwargs))
+        return figures[-1]
+
+    monkeypatch.setattr(Figure, "add_subplot", keep)
+    animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="3d", fps=2, size=2.0)
+    ax = figures[-1]
+    assert (ax.get_xlabel(), ax.get_ylabel(), ax.get_zlabel()) == ("x [m]", "y [m]", "z [m]")
+
+
 def test_mobile_from_a_plan_and_from_a_log(tmp_path):
     plan = mobile.constant_twist(0.2, 0.5, 3.0)
     count, _ = frames_of(animate.mobile(plan, tmp_path / "plan.gif", fps=3, size=2.0))

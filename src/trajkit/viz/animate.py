@@ -128,8 +128,14 @@ def _interrupt_behind(exc: BaseException) -> KeyboardInterrupt | None:
 
 
 def _joint_trajectory(robot: object, trajectory: object) -> Trajectory:
-    """The joint trajectory to draw: a Trajectory, or the one a JointSpacePlan holds."""
+    """The joint trajectory to draw.
+
+    A Trajectory, the one a JointSpacePlan holds, or the motion of a simulated arm (an
+    ArmLog: cubics through its states).
+    """
+    from trajkit.io.trajectory_controller import controller_trajectory
     from trajkit.kinematics.chain import SerialChain
+    from trajkit.sim.arm import ArmLog
     from trajkit.taskspace.joint_space import JointSpacePlan
     from trajkit.trajectory import Trajectory
 
@@ -137,10 +143,13 @@ def _joint_trajectory(robot: object, trajectory: object) -> Trajectory:
         raise InvalidInputError(f"robot must be a trajkit SerialChain, got {type(robot).__name__}")
     if isinstance(trajectory, JointSpacePlan):
         trajectory = trajectory.trajectory  # what taskspace.to_joint_space plans
+    if isinstance(trajectory, ArmLog):  # what the simulated arm did, between its samples too
+        trajectory = controller_trajectory(trajectory.t, trajectory.actual,
+                                           trajectory.actual_velocity)  # fmt: skip
     if not isinstance(trajectory, Trajectory):
         raise InvalidInputError(
-            "trajectory must be a trajkit Trajectory or a taskspace JointSpacePlan, got "
-            f"{type(trajectory).__name__}"
+            "trajectory must be a trajkit Trajectory, a taskspace JointSpacePlan or a "
+            f"trajkit.sim.ArmLog, got {type(trajectory).__name__}"
         )
     if trajectory.ndof != robot.ndof:
         raise InvalidInputError(
@@ -166,9 +175,11 @@ def arm(
     Parameters
     ----------
     robot : SerialChain
-    trajectory : Trajectory or JointSpacePlan
-        Joint trajectory of ``robot``, or the plan of
-        :func:`trajkit.taskspace.to_joint_space` (its ``trajectory`` is drawn).
+    trajectory : Trajectory, JointSpacePlan or ArmLog
+        Joint trajectory of ``robot``, the plan of
+        :func:`trajkit.taskspace.to_joint_space` (its ``trajectory`` is drawn), or a
+        simulated run of it (:class:`trajkit.sim.ArmLog`: the simulated joints, as
+        cubics through their positions and velocities).
     path : path-like
         ``.gif`` (Pillow) or ``.mp4`` (needs ffmpeg).
     view : {"3d", "xy", "xz", "yz"}
@@ -210,7 +221,9 @@ def arm(
         (trace,) = ax.plot([], [], [], color="tab:red", lw=1.2)
         for setter, m in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), middle, strict=True):
             setter(m - span, m + span)
-        ax.set_zlabel("z")
+        ax.set_zlabel("z [m]")
+        # Room for the z label, which the constrained layout otherwise cuts off.
+        ax.set_box_aspect(None, zoom=0.85)
         axes = (0, 1)
 
         def place(line: Any, points: FloatArray) -> None:
@@ -228,8 +241,8 @@ def arm(
         def place(line: Any, points: FloatArray) -> None:
             line.set_data(points[:, axes[0]], points[:, axes[1]])
 
-    ax.set_xlabel("xyz"[axes[0]])
-    ax.set_ylabel("xyz"[axes[1]])
+    ax.set_xlabel(f"{'xyz'[axes[0]]} [m]")
+    ax.set_ylabel(f"{'xyz'[axes[1]]} [m]")
     heading = title or robot.name
     label = ax.set_title(heading)
 

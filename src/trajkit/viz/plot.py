@@ -457,15 +457,15 @@ def tracking(
     Returns
     -------
     matplotlib.figure.Figure
-        Three panels against time: positions (desired dashed, actual solid),
-        tracking error ``q − q_d``, and actuator torques, one color per joint.
+        Four panels against time: positions and velocities (desired dashed, actual
+        solid), tracking error ``q − q_d``, and actuator torques, one color per joint.
     """
     from trajkit.sim.arm import ArmLog
 
     if not isinstance(log, ArmLog):
         raise InvalidInputError(f"log must be a trajkit.sim.ArmLog, got {type(log).__name__}")
     positive_scalar("width", width)
-    figure, axes = _stacked(width, 7.2, 3)
+    figure, axes = _stacked(width, 9.4, 4)
     units: set[str] = set()
     efforts: set[str] = set()
     for j, name in enumerate(log.joint_names):
@@ -476,12 +476,18 @@ def tracking(
             scale, unit = 1.0, "m"
         units.add(unit)
         efforts.add("N·m" if log.revolute[j] else "N")
-        axes[0].plot(log.t, log.desired[:, j] * scale, "--", color=color, label=f"{name} desired")
-        axes[0].plot(log.t, log.actual[:, j] * scale, color=color, label=f"{name} actual")
-        axes[1].plot(log.t, log.error[:, j] * scale, color=color, label=name)
-        axes[2].plot(log.t, log.efforts[:, j], color=color, label=name)
+        for ax, desired, actual in (
+            (axes[0], log.desired, log.actual),
+            (axes[1], log.desired_velocity, log.actual_velocity),
+        ):
+            ax.plot(log.t, desired[:, j] * scale, "--", color=color, label=f"{name} desired")
+            ax.plot(log.t, actual[:, j] * scale, color=color, label=f"{name} actual")
+        axes[2].plot(log.t, log.error[:, j] * scale, color=color, label=name)
+        axes[3].plot(log.t, log.efforts[:, j], color=color, label=name)
     unit, effort = " | ".join(sorted(units)), " | ".join(sorted(efforts))
-    ylabels = (f"position [{unit}]", f"error q − q_d [{unit}]", f"effort [{effort}]")
+    speed = " | ".join(sorted(f"{u}/s" for u in units))
+    ylabels = (f"position [{unit}]", f"velocity [{speed}]", f"error q − q_d [{unit}]",
+               f"effort [{effort}]")  # fmt: skip
     _label_time_panels(axes, ylabels, "best", 2)
     axes[0].set_title(title or f"{log.controller}: desired against actual")
     return figure
