@@ -341,3 +341,19 @@ def test_trajkit_bag_executes_the_points_in_mujoco(tmp_path: Path, capsys) -> No
     assert "need(s) --sim mujoco" in capsys.readouterr().err
     assert main(["bag", str(bag), "--sim", "mujoco", "--robot", "ur5"]) == 2
     assert "--robot ur5 has 6 joints but the move has 2" in capsys.readouterr().err
+
+
+def test_the_trajectory_on_the_topic_a_controller_subscribes_to(tmp_path: Path, capsys) -> None:
+    plan = PLANS["quintic"]()
+    bag = write_bag(tmp_path / "bag", plan, controller="joint_trajectory_controller")
+    back = read_bag(bag)
+    assert list(back.topics) == ["/joint_trajectory_controller/joint_trajectory"]
+    curve = back.joint_trajectory()  # the bag's one JointTrajectory topic
+    np.testing.assert_allclose(curve(plan.breakpoints), plan(plan.breakpoints), atol=1e-12)
+    assert main(["bag", str(bag)]) == 0
+    assert "/joint_trajectory_controller/joint_trajectory: 2 points" in capsys.readouterr().out
+    for bad in ("/jtc", "2nd", "a b", ""):
+        with pytest.raises(InvalidInputError, match="controller must be a ROS name"):
+            write_bag(tmp_path / "bad", plan, controller=bad)
+    with pytest.raises(InvalidInputError, match="are for arm plans"):
+        write_bag(tmp_path / "bad", _base_run()[0], controller="jtc")

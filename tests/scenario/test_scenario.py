@@ -549,6 +549,20 @@ def test_a_plan_stream_cannot_pass_for_the_simulated_arm():
     assert scenario.parse(text + 'ros2_stream = "point"\n').outputs["ros2_stream"] == "point"
 
 
+def test_an_arm_bag_for_a_named_trajectory_controller(tmp_path):
+    pytest.importorskip("rosbags", reason="rosbags is not installed: pip install 'trajkit[ros]'")
+    from trajkit.io.ros2_read import read_bag
+
+    text = ARM + '[outputs]\nros2_bag = true\nros2_controller = "arm_controller"\n'
+    scenario.execute(scenario.parse(text), tmp_path, log=len)
+    assert list(read_bag(tmp_path / "arm_bag").topics) == ["/arm_controller/joint_trajectory"]
+    for bad in ('"/arm"', '"two words"', "3"):
+        with pytest.raises(ScenarioError, match=r"outputs\.ros2_controller"):
+            scenario.parse(ARM + f"[outputs]\nros2_controller = {bad}\n")
+    with pytest.raises(ScenarioError, match="an arm's joint trajectory controller"):
+        scenario.parse(GOTO_SCURVE + 'ros2_controller = "jtc"\n')
+
+
 def test_command_messages_are_a_bases_and_named():
     with pytest.raises(ScenarioError, match=r"outputs\.ros2_cmd_vel: expected one of"):
         scenario.parse(GOTO_SCURVE + 'ros2_cmd_vel = "Stamped"\n')

@@ -32,8 +32,8 @@ def add_bag_command(commands: argparse._SubParsersAction, numbers: object) -> No
         "Needs pip install \"trajkit[ros]\".",
     )  # fmt: skip
     bag.add_argument("bag", type=Path, help="the bag folder (with its metadata.yaml)")
-    bag.add_argument("--trajectory", default="/joint_trajectory",
-                     help="the JointTrajectory topic (default /joint_trajectory)")  # fmt: skip
+    bag.add_argument("--trajectory", help="the JointTrajectory topic (default "
+                     "/joint_trajectory, else the bag's one such topic)")  # fmt: skip
     bag.add_argument("--states", default="/joint_states",
                      help="the JointState topic (default /joint_states)")  # fmt: skip
     for flag, meaning in (("--vmax", "velocity bound (rad/s, or deg/s with --deg)"),
@@ -75,9 +75,15 @@ def run_bag(args: argparse.Namespace) -> int:
     effort = bound(args.effort, angular=False)
     plan = states = None
     ok = True
-    if args.trajectory in bag.topics:
-        plan = bag.joint_trajectory(args.trajectory)
-        print(f"{args.trajectory}: {plan.breakpoints.size} points over {plan.duration:.6g} s, "
+    # Default: /joint_trajectory, else the bag's one JointTrajectory topic.
+    found = [t for t, (kind, _) in bag.topics.items() if kind.endswith("/JointTrajectory")]
+    topic = args.trajectory
+    if topic is None:
+        single = len(found) == 1 and "/joint_trajectory" not in bag.topics
+        topic = found[0] if single else "/joint_trajectory"
+    if topic in bag.topics:
+        plan = bag.joint_trajectory(topic)
+        print(f"{topic}: {plan.breakpoints.size} points over {plan.duration:.6g} s, "
               f"{plan.info['interpolation']} interpolation")  # fmt: skip
         if args.vmax is not None or args.amax is not None:
             report = plan.check(limits)
@@ -104,7 +110,7 @@ def run_bag(args: argparse.Namespace) -> int:
                 print(f"    {violation}")
     if plan is None and states is None:
         raise InvalidInputError(
-            f"the bag has neither {args.trajectory} nor {args.states}: name the topics with "
+            f"the bag has neither {topic} nor {args.states}: name the topics with "
             "--trajectory and --states"
         )
     if args.plot is not None and states is None:
@@ -112,8 +118,8 @@ def run_bag(args: argparse.Namespace) -> int:
     scene = log = None
     if args.sim == "mujoco":
         if plan is None:
-            raise InvalidInputError(f"--sim mujoco runs the bag's joint trajectory: the bag has "
-                                    f"no {args.trajectory}")  # fmt: skip
+            raise InvalidInputError("--sim mujoco runs the bag's joint trajectory: the bag has "
+                                    f"no {topic}")  # fmt: skip
         scene, log = simulate_arm(args, plan)
         print(f"executed on {scene.robot.name} in MuJoCo as the controller interpolates the "
               f"points, {log.summary()}")  # fmt: skip

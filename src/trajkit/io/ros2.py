@@ -87,6 +87,7 @@ def write_bag(
     cmd_vel: Command = "Twist",
     base_frame: str = "base_link",
     run: Any = None,
+    controller: str | None = None,
 ) -> Path:
     """Write a plan as a ROS 2 bag (a folder), and what a simulated robot did with it.
 
@@ -124,6 +125,11 @@ def write_bag(
         ``"TwistStamped"`` (stamped with its bag time, in ``base_frame``) for Jazzy.
     base_frame : str
         Mobile plans: the base's frame (``TwistStamped`` commands, odometry, TF).
+    controller : str, optional
+        Arm plans: the joint trajectory controller's name. Its ``JointTrajectory``
+        then goes on ``/<controller>/joint_trajectory``, the topic ros2_controllers'
+        controller subscribes to (``joint_trajectory_controller`` in its examples);
+        default ``/joint_trajectory``.
     run : trajkit.sim.ArmLog, trajkit.sim.PhysicsLog or trajkit.mobile.SimulationLog, optional
         A simulated run of the plan, stamped with the simulation clock from
         ``start_ns`` (the plan's start). An arm's: ``/joint_states`` of the simulated
@@ -180,9 +186,19 @@ def write_bag(
         messages = _arm_messages(
             types, plan, joint_names, sample_step, stream, rate_hz, int(start_ns)
         )
+        if controller is not None:
+            if not isinstance(controller, str) or not _NAME.fullmatch(f"/{controller}"):
+                raise InvalidInputError(
+                    "controller must be a ROS name such as 'joint_trajectory_controller' "
+                    f"(letters, digits and '_', starting with a letter), got {controller!r}"
+                )
+            messages = [(f"/{controller}/joint_trajectory" if m[0] == "/joint_trajectory"
+                         else m[0], *m[1:]) for m in messages]  # fmt: skip
     elif isinstance(plan, MobileTrajectory):
-        if joint_names is not None or stream is not None:
-            raise InvalidInputError("joint_names and stream are for arm plans (a Trajectory)")
+        if joint_names is not None or stream is not None or controller is not None:
+            raise InvalidInputError(
+                "joint_names, stream and controller are for arm plans (a Trajectory)"
+            )
         messages = _mobile_messages(types, plan, sample_step, rate_hz, int(start_ns), frame_id,
                                     cmd_vel, base_frame)  # fmt: skip
     else:
@@ -193,7 +209,7 @@ def write_bag(
         from trajkit.io.ros2_run import run_messages
 
         names = next((message.joint_names for topic, _, _, message in messages
-                      if topic == "/joint_trajectory"), None)  # fmt: skip
+                      if topic.endswith("/joint_trajectory")), None)  # fmt: skip
         messages = run_messages(types, plan, run, int(start_ns), messages, names, cmd_vel,
                                 base_frame, frame_id)  # fmt: skip
     plugin = plugins.MCAP if storage == "mcap" else plugins.SQLITE3

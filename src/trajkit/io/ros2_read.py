@@ -166,17 +166,32 @@ class Bag:
             )
         return self._messages[topic]
 
+    def _default(self, topic: str | None, usual: str, kind: str) -> str:
+        """``topic``, or ``usual`` when the bag has it, or the bag's one topic of ``kind``."""
+        if topic is not None or usual in self.topics:
+            return usual if topic is None else topic
+        found = sorted(name for name, (held, _) in self.topics.items() if held == kind)
+        if len(found) != 1:
+            what = f"{len(found)} of them ({', '.join(found)})" if found else "none"
+            raise InvalidInputError(f"the bag has no {usual} and {what} of {kind}: name the "
+                                    "topic")  # fmt: skip
+        return found[0]
+
     def _seconds(self, stamps: list[int]) -> FloatArray:
         return (np.asarray(stamps, dtype=np.int64) - self.origin_ns) / 1e9
 
-    def joint_trajectory(self, topic: str = "/joint_trajectory", index: int = -1) -> Trajectory:
+    def joint_trajectory(self, topic: str | None = None, index: int = -1) -> Trajectory:
         """The curve a joint trajectory controller follows through a message's points.
 
-        ``index`` picks the message (default the last). Times are the message's
-        stamp plus each point's ``time_from_start``; ``info["joint_names"]`` holds
-        the joints.
+        ``topic`` defaults to ``/joint_trajectory``, else the bag's one
+        JointTrajectory topic (``/joint_trajectory_controller/joint_trajectory``,
+        say). ``index`` picks the message (default the last). Times are the
+        message's stamp plus each point's ``time_from_start``;
+        ``info["joint_names"]`` holds the joints.
         """
         from trajkit.io.trajectory_controller import controller_trajectory
+
+        topic = self._default(topic, "/joint_trajectory", _TRAJECTORY)
 
         stamp, message = self._topic(topic, (_TRAJECTORY,))[index]
         points = message.points

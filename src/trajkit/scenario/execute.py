@@ -182,7 +182,8 @@ def _write_bag(scenario: Scenario, robot: Any, plan: Any, run: Any, path: Path) 
     if scenario.mobile:
         rate = scenario.simulation.get("rate_hz") or scenario.task.get("rate_hz")
     names = None if scenario.mobile or robot is None else robot.names
-    mobile = {"cmd_vel": scenario.outputs["ros2_cmd_vel"]} if scenario.mobile else {}
+    mobile = ({"cmd_vel": scenario.outputs["ros2_cmd_vel"]} if scenario.mobile
+              else {"controller": scenario.outputs["ros2_controller"]})  # fmt: skip
     write_bag(path, plan, joint_names=names, stream=arm_stream, rate_hz=rate,
               storage=scenario.outputs["storage"], start_ns=scenario.outputs["ros2_start_ns"],
               run=run, **mobile)  # fmt: skip

@@ -11,6 +11,7 @@ from __future__ import annotations
 import datetime
 import math
 import os
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -80,6 +81,7 @@ class Scenario:
         ``csv``, ``json``, ``npz`` (samples), ``plot``, ``animation`` (none, gif or
         mp4) with ``animation_view``, ``animation_fps`` and ``animation_speed``,
         ``ros2_bag``, ``ros2_stream``, ``ros2_cmd_vel`` (Twist or TwistStamped),
+        ``ros2_controller`` (an arm's controller: ``/<name>/joint_trajectory``),
         ``ros2_start_ns`` (the bag time of the plan's start, from ``ros2_start``: a
         date-time or seconds since 1970), ``storage`` (mcap or sqlite3), ``sample_step``
         (s, the data files' sampling step; None: the controller period, else 10 ms).
@@ -169,6 +171,9 @@ def from_data(
         raise ScenarioError("outputs.ros2_stream: with a MuJoCo simulation the bag's "
                             "/joint_states is the simulated arm's; the plan's stream would "
                             "pass for it: use 'point' or 'none'")  # fmt: skip
+    if outputs["ros2_controller"] is not None and kind in MOBILE_TASKS:
+        raise ScenarioError("outputs.ros2_controller: an arm's joint trajectory controller; a "
+                            "base's bag holds /cmd_vel")  # fmt: skip
     if outputs["ros2_cmd_vel"] != "Twist" and kind not in MOBILE_TASKS:
         raise ScenarioError("outputs.ros2_cmd_vel: a base's commands (/cmd_vel); an arm's bag "
                             "holds /joint_trajectory")  # fmt: skip
@@ -467,6 +472,15 @@ def _simulation(table: Table | None, mobile: bool) -> dict[str, Any]:
     return simulation
 
 
+def _controller_name(table: Table) -> str | None:
+    """A joint trajectory controller's name (its topic ``/<name>/joint_trajectory``)."""
+    name = table.string("ros2_controller", None)
+    if name is not None and not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name):
+        raise ScenarioError(f"{table.where('ros2_controller')}: expected a ROS name such as "
+                            f"joint_trajectory_controller, got {name!r}")  # fmt: skip
+    return name
+
+
 #: The last second ROS time holds (builtin_interfaces/Time counts seconds in 32 bits).
 _LAST_SECOND = 2**31 - 1
 
@@ -501,7 +515,8 @@ def _outputs(table: Table | None) -> dict[str, Any]:
     defaults = {"csv": True, "json": False, "npz": False, "plot": True, "animation": "none",
                 "animation_view": "3d", "animation_fps": 10.0,
                 "animation_speed": 1.0, "ros2_bag": False, "ros2_stream": "none",
-                "ros2_cmd_vel": "Twist", "ros2_start_ns": 0, "storage": "mcap",
+                "ros2_cmd_vel": "Twist", "ros2_controller": None, "ros2_start_ns": 0,
+                "storage": "mcap",
                 "sample_step": None}  # fmt: skip
     if table is None:
         return defaults
@@ -519,6 +534,7 @@ def _outputs(table: Table | None) -> dict[str, Any]:
             "ros2_stream", "none", choices=("none", "joint_state", "point")
         ),
         "ros2_cmd_vel": table.string("ros2_cmd_vel", "Twist", choices=("Twist", "TwistStamped")),
+        "ros2_controller": _controller_name(table),
         "ros2_start_ns": _bag_start(table),
         "storage": table.string("storage", "mcap", choices=("mcap", "sqlite3")),
         "sample_step": table.number("sample_step", None, positive=True),
