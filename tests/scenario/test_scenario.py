@@ -563,6 +563,31 @@ def test_an_arm_bag_for_a_named_trajectory_controller(tmp_path):
         scenario.parse(GOTO_SCURVE + 'ros2_controller = "jtc"\n')
 
 
+def test_plots_are_in_degrees_where_the_scenario_is(tmp_path, monkeypatch):
+    import trajkit.viz.plot as plot
+
+    drawn = []
+    original = plot.profiles
+
+    def keep(*args, **kwargs):
+        drawn.append(original(*args, **kwargs))
+        return drawn[-1]
+
+    monkeypatch.setattr(plot, "profiles", keep)
+    radians = ARM.replace("q0_deg = [0, 0]", "q0 = [0, 0]").replace(
+        "qf_deg = [67, -45]", "qf = [1.17, -0.79]").replace("vmax_deg = [9, 11]", "vmax = 0.2")
+    for text, degrees, unit, named in ((ARM, True, "deg", "q1 limit"),
+                                       (radians, False, "rad", "velocity limit")):  # fmt: skip
+        spec = scenario.parse(text)
+        assert spec.degrees is degrees
+        scenario.execute(spec, tmp_path / unit, log=len)
+        assert [ax.get_ylabel() for ax in drawn[-1].axes][:2] == [
+            f"position [{unit}]", f"velocity [{unit}/s]"]  # fmt: skip
+        legend = [t.get_text() for t in drawn[-1].axes[1].get_legend().get_texts()]
+        assert named in legend  # the velocity limits are named: per joint, or shared
+    assert not scenario.parse(GOTO_SCURVE).degrees  # a base's angles stay in rad
+
+
 def test_command_messages_are_a_bases_and_named():
     with pytest.raises(ScenarioError, match=r"outputs\.ros2_cmd_vel: expected one of"):
         scenario.parse(GOTO_SCURVE + 'ros2_cmd_vel = "Stamped"\n')

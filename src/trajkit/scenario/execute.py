@@ -420,6 +420,7 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
         # A jerk panel too when the scenario limits jerk.
         orders = (0, 1, 2, 3) if "jmax" in scenario.limits else (0, 1, 2)
         figure = tk.plot.profiles(plan, _arm_limits(scenario), names=names, title=name,
+                                  degrees=scenario.degrees,
                                   orders=orders)  # fmt: skip
         tk.plot.save(figure, at(".png"))
         path_limits = _path_limits(scenario, robot)
@@ -431,7 +432,8 @@ def _write(scenario: Scenario, robot: Any, plan: Any, run: Any, extra: Any, stem
             tk.plot.save(tk.plot.task_space(extra, title=f"{name}: task space"), at("_task.png"))
     if run is not None:
         run.to_csv(at("_sim.csv"))
-        tk.plot.save(tk.plot.tracking(run, title=f"{name} in MuJoCo"), at("_sim.png"))
+        tk.plot.save(tk.plot.tracking(run, title=f"{name} in MuJoCo", degrees=scenario.degrees),
+                     at("_sim.png"))  # fmt: skip
     if outputs["animation"] != "none":
         from trajkit.viz import animate
 

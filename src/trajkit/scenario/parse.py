@@ -107,6 +107,18 @@ class Scenario:
         """True for a wheeled robot's scenario."""
         return self.task["kind"] in MOBILE_TASKS
 
+    @property
+    def degrees(self) -> bool:
+        """True when an arm's scenario gives angles in degrees: its plots show degrees.
+
+        Degrees are given as a ``*_deg`` key of the task or the limits.
+        """
+        if self.mobile or not self.text:
+            return False
+        data = tomllib.loads(self.text)
+        return any(key.endswith("_deg") for section in ("task", "limits")
+                   for key in data.get(section, {}))  # fmt: skip
+
 
 def load(path: str | os.PathLike[str]) -> Scenario:
     """Read and check a scenario file.

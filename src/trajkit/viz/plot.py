@@ -164,11 +164,12 @@ def profiles(
         bounds = None if limits is None else getattr(limits, _QUANTITIES[order])
         if bounds is not None:
             lower, upper = bounds.for_ndof(_QUANTITIES[order], ndof)
-            _draw_bounds(ax, lower * scale, upper * scale, colors)
+            _draw_bounds(ax, lower * scale, upper * scale, colors, _QUANTITIES[order], labels)
         ax.set_ylabel(_axis_label(_QUANTITIES[order], units, parameter_unit, order))
         ax.grid(True, alpha=0.3)
+        if ax is axes[0] or bounds is not None:  # the joints once, and every limit drawn
+            ax.legend(loc="best", fontsize="small", ncols=min(ndof + 1, 6))
     axes[-1].set_xlabel(f"{parameter} [{parameter_unit}]" if parameter_unit else parameter)
-    axes[0].legend(loc="best", fontsize="small", ncols=min(ndof, 6))
     if title:
         figure.suptitle(title)
     return figure
@@ -189,14 +190,18 @@ def _label_time_panels(axes: np.ndarray, ylabels: Sequence[str], loc: str, colum
     axes[-1].set_xlabel("time [s]")
 
 
-def _draw_bounds(ax, lower: np.ndarray, upper: np.ndarray, colors: list[str]) -> None:
+def _draw_bounds(ax, lower: np.ndarray, upper: np.ndarray, colors: list[str], quantity: str,
+                 names: Sequence[str]) -> None:  # fmt: skip
+    """Dashed bound lines, named once in the legend: ``velocity limit`` or ``q1 limit``."""
     shared = np.all(lower == lower[0]) and np.all(upper == upper[0])
-    for side in (lower, upper):
+    for k, side in enumerate((lower, upper)):
         if shared:
-            ax.axhline(side[0], color="black", linestyle="--", linewidth=1.0, alpha=0.7)
+            ax.axhline(side[0], color="black", linestyle="--", linewidth=1.0, alpha=0.7,
+                       label=f"{quantity} limit" if k == 0 else None)  # fmt: skip
         else:
             for j, value in enumerate(side):
-                ax.axhline(value, color=colors[j], linestyle="--", linewidth=1.0, alpha=0.7)
+                ax.axhline(value, color=colors[j], linestyle="--", linewidth=1.0, alpha=0.7,
+                           label=f"{names[j]} limit" if k == 0 else None)  # fmt: skip
 
 
 _VIEWS = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
