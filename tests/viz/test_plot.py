@@ -271,6 +271,19 @@ def test_mobile_path_draws_the_robot(drive, tracked, tmp_path):
     assert (tmp_path / "path.png").read_bytes()[:4] == b"\x89PNG"
 
 
+def test_a_closed_paths_start_is_seen_over_its_end():
+    from trajkit import mobile
+
+    eight = mobile.flat_trajectory(mobile.FigureEight(2.0, 1.0, 20.0), model=mobile.jackal())
+    ax = tk.plot.mobile_path(eight, robots=0).get_axes()[0]
+    marks = {line.get_label(): line for line in ax.get_lines()}
+    start, end = marks["start"], marks["end"]
+    np.testing.assert_allclose(start.get_xydata(), end.get_xydata(), atol=1e-9)  # closed
+    assert start.get_zorder() > end.get_zorder()  # the dot on top
+    assert end.get_markerfacecolor() == "none"  # the square hollow around it
+    assert end.get_markersize() > start.get_markersize()
+
+
 @pytest.mark.parametrize(
     ("call", "message"),
     [

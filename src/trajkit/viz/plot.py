@@ -433,8 +433,11 @@ def mobile_path(
             corners = np.array([[1.6, 0.0], [-0.8, 0.6], [-0.8, -0.6]]) * body
             rotated = corners @ np.array([[c, s], [-s, c]]) + [x, y]
             ax.add_patch(Polygon(rotated, closed=True, facecolor="0.6", edgecolor="black"))
-    ax.plot(*drawn[0, :2], "o", color="green", label="start")
-    ax.plot(*drawn[-1, :2], "s", color="black", label="end")
+    # A closed path (a figure eight) ends where it starts: the end is a hollow square
+    # around the start's dot, which is drawn on top.
+    ax.plot(*drawn[-1, :2], "s", markersize=11, markerfacecolor="none", markeredgecolor="black",
+            markeredgewidth=1.5, label="end", zorder=4)  # fmt: skip
+    ax.plot(*drawn[0, :2], "o", color="green", markersize=6, label="start", zorder=5)
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
