@@ -574,8 +574,11 @@ def test_plots_are_in_degrees_where_the_scenario_is(tmp_path, monkeypatch):
         return drawn[-1]
 
     monkeypatch.setattr(plot, "profiles", keep)
-    radians = ARM.replace("q0_deg = [0, 0]", "q0 = [0, 0]").replace(
-        "qf_deg = [67, -45]", "qf = [1.17, -0.79]").replace("vmax_deg = [9, 11]", "vmax = 0.2")
+    radians = (
+        ARM.replace("q0_deg = [0, 0]", "q0 = [0, 0]")
+        .replace("qf_deg = [67, -45]", "qf = [1.17, -0.79]")
+        .replace("vmax_deg = [9, 11]", "vmax = 0.2")
+    )
     for text, degrees, unit, named in ((ARM, True, "deg", "q1 limit"),
                                        (radians, False, "rad", "velocity limit")):  # fmt: skip
         spec = scenario.parse(text)

@@ -251,7 +251,7 @@ def test_to_csv_round_trips_at_full_precision(twist_log, tmp_path):
 def test_mobile_plots_take_a_physics_log(twist_log):
     figure = tk.plot.mobile(twist_log)
     assert isinstance(figure, Figure)
-    assert len(figure.get_axes()) == 4
+    assert len(figure.get_axes()) == 6  # v, ω, world velocity, position, heading, errors
     path = tk.plot.mobile_path(twist_log)
     assert isinstance(path, Figure)
     assert len(path.get_axes()) == 1

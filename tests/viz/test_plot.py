@@ -232,25 +232,40 @@ def test_mobile_panels_of_a_plan(drive):
     figure = tk.plot.mobile(drive, title="goto")
     axes = figure.get_axes()
     assert [ax.get_ylabel() for ax in axes] == [
-        "linear velocity [m/s]",
-        "angular velocity [rad/s]",
+        "forward speed v [m/s]",
+        "turn rate ω [rad/s]",
+        "world velocity [m/s]",
         "position [m]",
         "heading [rad]",
     ]
     assert figure._suptitle.get_text() == "goto"
-    heading = axes[3].get_lines()[0]
+    heading = axes[4].get_lines()[0]
     assert heading.get_ydata()[-1] == pytest.approx(1.0, abs=1e-12)
     # The drive's x velocity peaks at the speed limit times cos(heading).
-    x_speed = axes[0].get_lines()[0].get_ydata()
+    x_speed = axes[2].get_lines()[0].get_ydata()
     assert x_speed.max() == pytest.approx(0.5 * np.cos(np.arctan2(1.0, 2.0)), rel=1e-9)
+    # The plan's own limits, named and in view: its speed reaches the 0.5 m/s bound.
+    legend = [t.get_text() for t in axes[0].get_legend().get_texts()]
+    assert legend == ["v planned", "speed limit"]
+    assert axes[0].get_ylim()[1] > 0.5 and axes[0].get_lines()[0].get_ydata().max() == (
+        pytest.approx(0.5, rel=1e-9))  # fmt: skip
 
 
-def test_mobile_panels_of_a_run_draw_planned_and_actual(tracked):
+def test_mobile_panels_of_a_run_draw_planned_commanded_measured_and_errors(tracked):
     axes = tk.plot.mobile(tracked).get_axes()
-    labels = [line.get_label() for line in axes[2].get_lines()]
+    labels = [line.get_label() for line in axes[3].get_lines()]
     assert labels == ["x planned", "y planned", "x actual", "y actual"]
-    assert [line.get_linestyle() for line in axes[2].get_lines()] == ["--", "--", "-", "-"]
-    np.testing.assert_array_equal(axes[2].get_lines()[2].get_ydata(), tracked.actual[:, 0])
+    assert [line.get_linestyle() for line in axes[3].get_lines()] == ["--", "--", "-", "-"]
+    np.testing.assert_array_equal(axes[3].get_lines()[2].get_ydata(), tracked.actual[:, 0])
+    speed = {line.get_label(): line for line in axes[0].get_lines()}
+    assert list(speed) == ["v planned", "v commanded", "v measured"]
+    np.testing.assert_array_equal(speed["v commanded"].get_ydata(), tracked.commands[:, 0])
+    # Measured: the change of the simulated pose, close to what was commanded.
+    np.testing.assert_allclose(speed["v measured"].get_ydata()[50:], tracked.commands[50:-1, 0],
+                               atol=0.02)  # fmt: skip
+    assert axes[5].get_ylabel() == "error [m | rad]"
+    np.testing.assert_array_equal(axes[5].get_lines()[0].get_ydata(), tracked.position_error)
+    assert not axes[0].get_legend().get_texts()[-1].get_text().endswith("limit")  # a log: none
 
 
 def test_mobile_path_draws_the_robot(drive, tracked, tmp_path):

@@ -28,6 +28,7 @@ from trajkit.trajectory import Trajectory
 if TYPE_CHECKING:
     from trajkit.io.ros2_read import JointStates
     from trajkit.kinematics.chain import SerialChain
+    from trajkit.mobile.limits import MobileLimits
     from trajkit.mobile.simulate import SimulationLog
     from trajkit.mobile.trajectory import MobileTrajectory
     from trajkit.sim.arm import ArmLog
@@ -192,8 +193,17 @@ def _label_time_panels(axes: np.ndarray, ylabels: Sequence[str], loc: str, colum
 
 def _draw_bounds(ax, lower: np.ndarray, upper: np.ndarray, colors: list[str], quantity: str,
                  names: Sequence[str]) -> None:  # fmt: skip
-    """Dashed bound lines, named once in the legend: ``velocity limit`` or ``q1 limit``."""
+    """Dashed bound lines, named once in the legend: ``velocity limit`` or ``q1 limit``.
+
+    The y range grows to show them (a horizontal line alone does not widen it).
+    """
     shared = np.all(lower == lower[0]) and np.all(upper == upper[0])
+    finite = [float(v) for v in (*lower, *upper) if np.isfinite(v)]
+    if finite:
+        bottom, top = ax.get_ylim()
+        bottom, top = min(bottom, *finite), max(top, *finite)
+        pad = 0.05 * (top - bottom)
+        ax.set_ylim(bottom - pad, top + pad)
     for k, side in enumerate((lower, upper)):
         if shared:
             ax.axhline(side[0], color="black", linestyle="--", linewidth=1.0, alpha=0.7,
@@ -340,17 +350,26 @@ def _mobile_series(data: MobileTrajectory | SimulationLog) -> tuple[np.ndarray, 
 
 
 def mobile(
-    data: MobileTrajectory | SimulationLog, *, title: str | None = None, width: float = 8.0
+    data: MobileTrajectory | SimulationLog,
+    *,
+    limits: MobileLimits | None = None,
+    title: str | None = None,
+    width: float = 8.0,
 ) -> Figure:
-    """Four panels against time, as the coursework draws a wheeled robot's run.
+    """A wheeled robot's run against time: its twist, velocity, pose and (a run's) errors.
 
-    Linear velocity in the world frame (ẋ, ẏ), angular velocity ω, position
-    (x, y) and heading θ. For a :class:`~trajkit.mobile.SimulationLog` the plan
-    is dashed and the simulated run (commands, actual poses) solid.
+    Panels: forward speed v and turn rate ω with their limits; the velocity in the
+    world frame (ẋ, ẏ), as the coursework draws it; position (x, y); heading θ. For
+    a :class:`~trajkit.mobile.SimulationLog` the plan is dashed, the commands sent
+    solid and the measured twist (from the change of the simulated pose over each
+    sample) dotted, and a last panel shows the tracking errors.
 
     Parameters
     ----------
     data : MobileTrajectory or SimulationLog
+    limits : MobileLimits, optional
+        Speed and turn-rate bounds drawn (and named in the legends); default a plan's
+        own (:attr:`MobileTrajectory.limits`), none for a log.
     title : str, optional
         Figure title (none by default).
     width : float
@@ -360,24 +379,49 @@ def mobile(
     -------
     matplotlib.figure.Figure
     """
+    from trajkit.io.ros2_run import body_twist
+    from trajkit.mobile.simulate import SimulationLog
     from trajkit.mobile.trajectory import world_velocity
 
     times, desired, actual = _mobile_series(data)
     positive_scalar("width", width)
-    figure, axes = _stacked(width, 8.8, 4)
+    if limits is None and not isinstance(data, SimulationLog):
+        limits = data.limits
+    count = 6 if actual is not None else 5
+    figure, axes = _stacked(width, 2.0 * count + 0.4, count)
 
-    runs = [("planned", desired, "--" if actual is not None else "-")]
+    planned = "--" if actual is not None else "-"
+    twists = [("planned", desired["twist"], planned)]
+    poses = [("planned", desired["pose"], desired["twist"], planned)]
     if actual is not None:
-        runs.append(("actual", actual, "-"))
-    for label, series, style in runs:
-        velocity = world_velocity(series["twist"][:, 0], series["pose"][:, 2])
-        axes[0].plot(times, velocity[:, 0], style, color="C0", label=f"ẋ {label}")
-        axes[0].plot(times, velocity[:, 1], style, color="C1", label=f"ẏ {label}")
-        axes[1].plot(times, series["twist"][:, 1], style, color="C2", label=f"ω {label}")
-        axes[2].plot(times, series["pose"][:, 0], style, color="C0", label=f"x {label}")
-        axes[2].plot(times, series["pose"][:, 1], style, color="C1", label=f"y {label}")
-        axes[3].plot(times, series["pose"][:, 2], style, color="C3", label=f"θ {label}")
-    ylabels = ("linear velocity [m/s]", "angular velocity [rad/s]", "position [m]", "heading [rad]")
+        measured = body_twist(times, actual["pose"])  # 0 at the first sample: dropped
+        twists += [("commanded", actual["twist"], "-"), ("measured", measured, ":")]
+        poses.append(("actual", actual["pose"], measured, "-"))
+    for label, twist, style in twists:
+        first = 1 if label == "measured" else 0
+        for ax, k, color in ((axes[0], 0, "C0"), (axes[1], 1, "C2")):
+            ax.plot(times[first:], twist[first:, k], style,
+                    color="C3" if label == "measured" else color,
+                    label=f"{'vω'[k]} {label}")  # fmt: skip
+    for ax, bound, quantity in ((axes[0], getattr(limits, "velocity", None), "speed"),
+                                (axes[1], getattr(limits, "angular_velocity", None),
+                                 "turn-rate")):  # fmt: skip
+        if bound is not None:
+            lower, upper = bound.for_ndof(quantity, 1)
+            _draw_bounds(ax, lower, upper, ["black"], quantity, [quantity])
+    for label, pose, twist, style in poses:
+        velocity = world_velocity(twist[:, 0], pose[:, 2])
+        axes[2].plot(times, velocity[:, 0], style, color="C0", label=f"ẋ {label}")
+        axes[2].plot(times, velocity[:, 1], style, color="C1", label=f"ẏ {label}")
+        axes[3].plot(times, pose[:, 0], style, color="C0", label=f"x {label}")
+        axes[3].plot(times, pose[:, 1], style, color="C1", label=f"y {label}")
+        axes[4].plot(times, pose[:, 2], style, color="C3", label=f"θ {label}")
+    ylabels = ["forward speed v [m/s]", "turn rate ω [rad/s]", "world velocity [m/s]",
+               "position [m]", "heading [rad]"]  # fmt: skip
+    if actual is not None:
+        axes[5].plot(times, data.position_error, color="C0", label="position error [m]")
+        axes[5].plot(times, data.heading_error, color="C3", label="heading error [rad]")
+        ylabels.append("error [m | rad]")
     _label_time_panels(axes, ylabels, "best", 2)
     if title:
         figure.suptitle(title)
