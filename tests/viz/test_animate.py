@@ -106,12 +106,16 @@ def test_progress_bar_on_a_given_stream(tmp_path):
     assert text.count("\r") <= 101  # redrawn only when its line changes
 
 
-def test_no_progress_bar_off_a_terminal_or_when_refused(tmp_path, capsys):
-    plan = tk.cubic([0.0, 0.0], [0.2, 0.1], duration=5.0)
-    animate.arm(RRBot(), plan, tmp_path / "quiet.gif", view="xz", fps=10, size=1.0)
+def test_off_a_terminal_a_long_render_still_says_how_far_it_is(tmp_path, capsys):
+    plan = tk.cubic([0.0, 0.0], [0.2, 0.1], duration=5.0)  # 51 frames: a long render
+    animate.arm(RRBot(), plan, tmp_path / "logged.gif", view="xz", fps=10, size=1.0)
+    lines = capsys.readouterr().err.splitlines()  # pytest's stderr is not a terminal
+    assert 10 <= len(lines) <= 21 and "\r" not in "".join(lines)  # a line a twentieth
+    assert lines[0].startswith("animating logged.gif [") and lines[-1].endswith("100%")
     animate.arm(RRBot(), plan, tmp_path / "off.gif", view="xz", fps=10, size=1.0,
                 progress=False)  # fmt: skip
-    assert capsys.readouterr().err == ""  # pytest's stderr is not a terminal
+    animate.arm(RRBot(), PLAN, tmp_path / "short.gif", view="xz", fps=5, size=1.0)  # 11
+    assert capsys.readouterr().err == ""
 
 
 @pytest.mark.parametrize(
@@ -148,18 +152,16 @@ def test_not_a_mobile_plan_is_refused(tmp_path):
 
 @pytest.mark.parametrize("interruption", [KeyboardInterrupt, RuntimeError])
 def test_an_interrupted_render_leaves_no_file(tmp_path, monkeypatch, interruption):
-    from matplotlib import animation
-
     calls = {"frames": 0}
-    original = animation.PillowWriter.grab_frame
+    original = animate._GifFrames.add
 
-    def grab(self, **kwargs):
+    def grab(self, rgba):
         calls["frames"] += 1
         if calls["frames"] == 3:
             raise interruption("stop")
-        return original(self, **kwargs)
+        return original(self, rgba)
 
-    monkeypatch.setattr(animation.PillowWriter, "grab_frame", grab)
+    monkeypatch.setattr(animate._GifFrames, "add", grab)
     with pytest.raises(interruption):
         animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="xz", fps=5, size=1.0)
     assert os.listdir(tmp_path) == []
@@ -188,13 +190,11 @@ LONG_PLAN = tk.cubic([0.0, 0.0], [1.0, -1.0], duration=2.0)  # 51 frames at 25 f
 
 
 def test_an_interrupt_before_the_first_frame_stays_an_interrupt(tmp_path, monkeypatch):
-    # PillowWriter fails on closing when it has no frame (IndexError); Ctrl-C must win.
-    from matplotlib import animation
-
-    def interrupted(self, **kwargs):
+    # A writer with no frame cannot finish; Ctrl-C, not that consequence, must show.
+    def interrupted(self, rgba):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(animation.PillowWriter, "grab_frame", interrupted)
+    monkeypatch.setattr(animate._GifFrames, "add", interrupted)
     with pytest.raises(KeyboardInterrupt) as excinfo:
         animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="xz", fps=5, size=1.0)
     assert excinfo.value.__cause__ is None
@@ -202,18 +202,16 @@ def test_an_interrupt_before_the_first_frame_stays_an_interrupt(tmp_path, monkey
 
 
 def test_an_interrupted_progress_bar_ends_its_line(tmp_path, monkeypatch):
-    from matplotlib import animation
-
-    original = animation.PillowWriter.grab_frame
+    original = animate._GifFrames.add
     calls = {"frames": 0}
 
-    def grab(self, **kwargs):
+    def grab(self, rgba):
         calls["frames"] += 1
         if calls["frames"] == 20:
             raise KeyboardInterrupt
-        return original(self, **kwargs)
+        return original(self, rgba)
 
-    monkeypatch.setattr(animation.PillowWriter, "grab_frame", grab)
+    monkeypatch.setattr(animate._GifFrames, "add", grab)
     stream = io.StringIO()
     with pytest.raises(KeyboardInterrupt):
         animate.arm(RRBot(), LONG_PLAN, tmp_path / "arm.gif", view="xz", size=1.0,
@@ -226,20 +224,18 @@ def test_an_interrupted_progress_bar_ends_its_line(tmp_path, monkeypatch):
 
 
 def test_the_progress_bar_shows_the_final_name_of_a_staged_file(tmp_path, monkeypatch):
-    from matplotlib import animation
-
     from trajkit.io import staged_files
 
-    original = animation.PillowWriter.grab_frame
+    original = animate._GifFrames.add
     calls = {"frames": 0}
 
-    def grab(self, **kwargs):  # a few frames are enough to see the bar's label
+    def grab(self, rgba):  # a few frames are enough to see the bar's label
         calls["frames"] += 1
         if calls["frames"] == 3:
             raise KeyboardInterrupt
-        return original(self, **kwargs)
+        return original(self, rgba)
 
-    monkeypatch.setattr(animation.PillowWriter, "grab_frame", grab)
+    monkeypatch.setattr(animate._GifFrames, "add", grab)
     stream = io.StringIO()
     with pytest.raises(KeyboardInterrupt), staged_files() as stage:
         animate.arm(RRBot(), LONG_PLAN, stage.path(tmp_path / "arm.gif"), view="xz", size=1.0,
@@ -257,3 +253,34 @@ def test_animations_get_the_usual_permissions(tmp_path):
     finally:
         os.umask(old_umask)
     assert stat.S_IMODE(gif.stat().st_mode) == 0o644  # 0666 less the umask, not 0600
+
+
+def test_a_long_render_is_drawn_at_a_lower_rate_and_says_so(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(animate, "LONG_FRAMES", 30)
+    plan = tk.cubic([0.0, 0.0], [0.2, 0.1], duration=5.0)  # 51 frames at 10 frames/s
+    path = animate.arm(RRBot(), plan, tmp_path / "long.gif", view="xz", fps=10, size=1.0,
+                       progress=False)  # fmt: skip
+    count, durations = frames_of(path)
+    note = capsys.readouterr().err
+    assert note == (
+        "trajkit: note: long.gif: 5 s at 10 frames/s would be 51 frames; drawn at 5.8 "
+        "frames/s instead (pass a lower fps or a higher speed to choose)\n"
+    )
+    # 0 .. 5 s and the end; 1000 / 5.8 = 172 ms, which a GIF keeps in hundredths.
+    assert count == 30 and set(durations[:-1]) == {170}
+
+
+def test_each_frame_draws_only_what_moved(tmp_path, monkeypatch):
+    # The figure is drawn once in full; frames draw their moving artists on a copy of it.
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    full = {"draws": 0}
+    original = FigureCanvasAgg.draw
+
+    def counted(self, *args, **kwargs):
+        full["draws"] += 1
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(FigureCanvasAgg, "draw", counted)
+    animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="3d", fps=5, size=2.0)
+    assert full["draws"] == 1

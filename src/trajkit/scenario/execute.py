@@ -121,6 +121,10 @@ def execute(
                          "limit")  # fmt: skip
     lines += [f"    {violation}" for violation in checked.violations]
     run = _simulate(scenario, robot, plan, extra, lines)
+    # The plan and its check are said before the outputs are drawn (an animation may
+    # take a while), not after.
+    for line in lines:
+        log(line)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     stem = folder / scenario.name
@@ -138,10 +142,7 @@ def execute(
             page = folder / "index.html"
             write_report(stage.path(page), [report_entry(scenario, outcome)],
                          title=f"trajkit: {scenario.name}", sources=stage.sources)  # fmt: skip
-    files = list(stage.targets)
-    for line in lines:
-        log(line)
-    return Outcome(plan, checked, run, files, lines)
+    return Outcome(plan, checked, run, list(stage.targets), lines)
 
 
 def preflight(scenario: Scenario) -> None:
