@@ -653,12 +653,12 @@ def test_a_failed_run_leaves_no_out_folder_it_created(failure, tmp_path, capsys,
 
 
 def test_an_interrupt_as_the_animation_starts_is_an_interrupt(tmp_path, capsys, monkeypatch):
-    from matplotlib import animation
+    from trajkit.viz import animate
 
-    def interrupted(self, **kwargs):
+    def interrupted(self, rgba):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(animation.PillowWriter, "grab_frame", interrupted)
+    monkeypatch.setattr(animate._GifFrames, "add", interrupted)
     out = tmp_path / "out"
     status, _, err = run(capsys, "run", str(tiny_scenario(tmp_path, animation=True)), "--out",
                          str(out))  # fmt: skip

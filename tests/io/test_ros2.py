@@ -770,8 +770,8 @@ ARM_ERRORS = [
     ({"stream": "point", "rate_hz": float("inf")}, "rate_hz must be finite"),
 ]
 MOBILE_ERRORS = [
-    ({"joint_names": ["a"]}, "joint_names and stream are for arm plans (a Trajectory)"),
-    ({"stream": "joint_state"}, "joint_names and stream are for arm plans"),
+    ({"joint_names": ["a"]}, "joint_names, stream and controller are for arm plans (a Traj"),
+    ({"stream": "joint_state"}, "joint_names, stream and controller are for arm plans"),
     ({"sample_step": float("nan")}, "sample_step must be finite"),
     ({"sample_step": -1.0}, "sample_step must be > 0"),
     ({"rate_hz": float("nan")}, "rate_hz must be finite"),
