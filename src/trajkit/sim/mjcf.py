@@ -20,6 +20,7 @@ from scipy.spatial.transform import Rotation
 
 from trajkit._validation import FloatArray
 from trajkit.kinematics.chain import SerialChain
+from trajkit.kinematics.inertials import Inertials
 from trajkit.mobile.models import DiffDrive
 
 __all__ = ["Actuator", "arm_extent", "chain_mjcf", "diff_drive_mjcf"]
@@ -171,6 +172,7 @@ def chain_mjcf(
     effort_limit: FloatArray | None,
     gravity_compensation: bool,
     timestep: float,
+    inertials: Inertials | None = None,
 ) -> str:
     """MJCF of ``robot`` on a floor, with ``actuators`` on every joint.
 
@@ -180,6 +182,11 @@ def chain_mjcf(
     sphere at its joint. Arm geoms collide with nothing: the scene is for
     tracking, not contact. Sensors: joint positions, velocities and the total
     actuator force of every joint, in that order.
+
+    With ``inertials``, each body carries its link's mass, centre of mass and
+    inertia tensor (in the joint's frame after its motion, which is the body's), and
+    the geoms none; a massless link gets 1e-9 kg (MuJoCo moves no massless body),
+    and every tensor 1e-12 kg·m² on its diagonal (a rod's is only semi-definite).
     """
     root, world = _scene_root(robot.name, timestep, max(arm_extent(robot), link_radius))
     base = robot.base
@@ -237,6 +244,12 @@ def chain_mjcf(
             # the efforts the log reports, as a drive's gravity feed-forward would.
             attributes["actuatorgravcomp"] = "true"
         ET.SubElement(body, "joint", attributes)
+        if inertials is not None:
+            tensor = inertials.inertia[index] + 1e-12 * np.eye(3)
+            ET.SubElement(body, "inertial", pos=_vec(inertials.center_of_mass[index]),
+                          mass=_num(max(float(inertials.mass[index]), 1e-9)),
+                          fullinertia=_vec([tensor[0, 0], tensor[1, 1], tensor[2, 2], tensor[0, 1],
+                                            tensor[0, 2], tensor[1, 2]]))  # fmt: skip
         end = joints[index + 1].origin[:3, 3] if index + 1 < len(joints) else robot.tool[:3, 3]
         segments = _link_segments(joint.axis, end)
         lengths = np.array([np.linalg.norm(b - a) for a, b in segments])

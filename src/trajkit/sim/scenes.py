@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike
 
 from trajkit._validation import finite_array, joint_parameter, positive_scalar
 from trajkit.errors import InvalidInputError
-from trajkit.kinematics import UR5, RRBot, SerialChain
+from trajkit.kinematics import UR5, Inertials, RRBot, SerialChain
 from trajkit.mobile.models import DiffDrive, jackal
 from trajkit.sim.controllers import ArmController, arm_controller, is_torque_control
 from trajkit.sim.mjcf import Actuator, arm_extent, chain_mjcf, diff_drive_mjcf
@@ -72,6 +72,12 @@ class ArmScene:
         dynamics and ignore this.
     timestep : float
         Physics step (s); control periods must be whole multiples of it.
+    inertials : Inertials, optional
+        Each link's mass, centre of mass and inertia tensor, written into the scene
+        as its bodies' own inertia (the capsules then carry none). Default: the
+        robot's own (a URDF's ``<inertial>`` elements, the built-in UR5's data)
+        unless ``link_mass`` is given; a robot without them gets the capsules'
+        masses.
     """
 
     robot: SerialChain
@@ -82,6 +88,7 @@ class ArmScene:
     effort_limit: ArrayLike | None = None
     gravity_compensation: bool = True
     timestep: float = 0.001
+    inertials: Inertials | None = None
     _compiled: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -91,6 +98,22 @@ class ArmScene:
             )
         n = self.robot.ndof
         own = self.robot.physical
+        if self.inertials is None and self.link_mass is None and own is not None:
+            try:
+                object.__setattr__(self, "inertials", own.inertials(n))
+            except InvalidInputError:  # no centres of mass or inertias: capsules
+                pass
+        if self.inertials is not None:
+            if not isinstance(self.inertials, Inertials):
+                raise InvalidInputError(
+                    "inertials must be a trajkit.kinematics.Inertials, got "
+                    f"{type(self.inertials).__name__}"
+                )
+            if self.inertials.mass.size != n:
+                raise InvalidInputError(
+                    f"inertials give {self.inertials.mass.size} links but {self.robot.name} "
+                    f"has {n} joints"
+                )
         defaults = {"link_radius": None, "link_mass": 1.0, "damping": 0.1, "armature": 0.01,
                     "effort_limit": None}  # fmt: skip
         for name, default in defaults.items():
@@ -172,6 +195,7 @@ class ArmScene:
             effort_limit=self.effort_limit,
             gravity_compensation=gravity_compensation,
             timestep=self.timestep,
+            inertials=self.inertials,
         )
 
 
