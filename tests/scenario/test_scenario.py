@@ -592,6 +592,21 @@ def test_plots_are_in_degrees_where_the_scenario_is(tmp_path, monkeypatch):
     assert not scenario.parse(GOTO_SCURVE).degrees  # a base's angles stay in rad
 
 
+def test_a_base_on_four_skid_steer_wheels(tmp_path):
+    pytest.importorskip("mujoco", reason="MuJoCo is not installed: pip install 'trajkit[sim]'")
+    text = GOTO_SCURVE.replace("[outputs]", '[simulation]\nengine = "mujoco"\nrate_hz = 50\n'
+                               'drive = "skid_steer"\n[outputs]')  # fmt: skip
+    spec = scenario.parse(text)
+    assert spec.simulation["drive"] == "skid_steer"
+    outcome = scenario.execute(spec, tmp_path, log=len)
+    assert outcome.log.kinematic is not None and outcome.log.t.size > 10
+    with pytest.raises(ScenarioError, match="only used with engine = 'mujoco'"):
+        scenario.parse(GOTO_SCURVE.replace("[outputs]", '[simulation]\ndrive = "skid_steer"\n'
+                                           "[outputs]"))  # fmt: skip
+    with pytest.raises(ScenarioError, match=r"simulation\.drive: expected one of"):
+        scenario.parse(text.replace('"skid_steer"', '"tracks"'))
+
+
 def test_command_messages_are_a_bases_and_named():
     with pytest.raises(ScenarioError, match=r"outputs\.ros2_cmd_vel: expected one of"):
         scenario.parse(GOTO_SCURVE + 'ros2_cmd_vel = "Stamped"\n')

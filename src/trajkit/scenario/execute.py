@@ -363,7 +363,8 @@ def _simulate(scenario: Scenario, robot: Any, plan: Any, extra: Any, lines: list
             if not isinstance(robot, mobile.DiffDrive):
                 raise ScenarioError("simulation.engine: mujoco needs a wheeled robot (jackal)")
             rate = rate or task.get("rate_hz")
-            run = sim.run(sim.MobileScene(robot), plan, control_rate_hz=rate,
+            scene = sim.MobileScene(robot, drive=scenario.simulation.get("drive", "differential"))
+            run = sim.run(scene, plan, control_rate_hz=rate,
                           controller=controller, initial_pose=start)  # fmt: skip
         elif task["kind"] == "figure8" or rate is not None:
             run = mobile.simulate(plan, controller, sample_step=0.01, initial_pose=start,

@@ -473,6 +473,12 @@ def _simulation(table: Table | None, mobile: bool) -> dict[str, Any]:
         "engine": table.string("engine", "kinematic", choices=("kinematic", "mujoco")),
         "rate_hz": table.number("rate_hz", None, positive=True),
     }
+    if mobile:
+        simulation["drive"] = table.string("drive", "differential",
+                                           choices=("differential", "skid_steer"))  # fmt: skip
+        if table.has("drive") and simulation["engine"] != "mujoco":
+            raise ScenarioError(f"{table.where('drive')}: the wheels MuJoCo drives: only used "
+                                "with engine = 'mujoco'")  # fmt: skip
     if not mobile:
         simulation["controller"] = table.string("controller", "position", choices=arm_controllers)
         if simulation["engine"] == "kinematic":

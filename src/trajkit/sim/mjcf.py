@@ -313,8 +313,9 @@ def diff_drive_mjcf(
     wheel_gain: float,
     wheel_damping: float,
     timestep: float,
+    drive: str = "differential",
 ) -> str:
-    """MJCF of a differential-drive base: two driven wheels and two casters.
+    """MJCF of a wheeled base: two driven wheels and two casters, or four skid-steer wheels.
 
     The chassis frame sits on the wheel axle, midway between the wheels, at the
     start ``pose`` ``(x, y, θ)``. The wheels are ``model.effective_track`` apart,
@@ -323,15 +324,24 @@ def diff_drive_mjcf(
     Actuators: a velocity servo per wheel (``wheel_gain`` N·m·s/rad). Sensors:
     the chassis position and orientation, wheel angles, wheel speeds and wheel
     torques.
+
+    ``drive="skid_steer"``: four wheels at the corners of the real ``track_width`` by
+    ``wheelbase``, no casters; the rear wheel of each side turns with the front one
+    (a joint equality: one drive a side, as the Jackal's), so the actuators, sensors
+    and wheel names are the same. How far it skids in a turn, and so its effective
+    track, comes from the tyres' friction on the ground.
     """
-    radius, track = model.wheel_radius, model.effective_track
+    four = drive == "skid_steer"
+    radius = model.wheel_radius
+    track = model.track_width if four else model.effective_track
     length = max(model.wheelbase, 2.0 * radius) + 2.0 * caster_radius
     width = max(track - wheel_width - 0.02, 0.5 * track)
     height = max(0.5 * radius, 0.05)
     mass = 17.0 if model.mass is None else model.mass
     caster_mass = 0.01 * mass
     # Wheels and casters are part of the model's mass (when it leaves room for a chassis).
-    chassis_mass = max(mass - 2.0 * wheel_mass - 2.0 * caster_mass, 0.1 * mass)
+    wheels = 4 if four else 2
+    chassis_mass = max(mass - wheels * wheel_mass - (0 if four else 2) * caster_mass, 0.1 * mass)
     root, world = _scene_root(model.name, timestep, max(length, track) * 4.0)
     x, y, theta = (float(v) for v in pose)
     chassis = ET.SubElement(
@@ -353,14 +363,18 @@ def diff_drive_mjcf(
         material="link",
     )
     ET.SubElement(chassis, "site", name="chassis", size="0.01")
-    for side, sign in (("left", 1.0), ("right", -1.0)):
-        wheel = ET.SubElement(
-            chassis, "body", name=f"{side}_wheel", pos=_vec([0, sign * track / 2, 0])
-        )
+    # The driven wheel of each side, and with four wheels its rear twin (one axle ahead).
+    ahead = model.wheelbase / 2.0 if four else 0.0
+    places = [(f"{side}_wheel", ahead, sign) for side, sign in (("left", 1.0), ("right", -1.0))]
+    if four:
+        places += [(f"rear_{side}_wheel", -ahead, sign)
+                   for side, sign in (("left", 1.0), ("right", -1.0))]  # fmt: skip
+    for name, forward, sign in places:
+        wheel = ET.SubElement(chassis, "body", name=name, pos=_vec([forward, sign * track / 2, 0]))
         ET.SubElement(
             wheel,
             "joint",
-            name=f"{side}_wheel",
+            name=name,
             type="hinge",
             axis="0 1 0",
             damping=_num(wheel_damping),
@@ -370,14 +384,19 @@ def diff_drive_mjcf(
         ET.SubElement(
             wheel,
             "geom",
-            name=f"{side}_wheel",
+            name=name,
             type="ellipsoid",
             size=_vec([radius, wheel_width / 2, radius]),
             mass=_num(wheel_mass),
             material="joint",
             friction=_vec([wheel_friction, 0.005, 0.0001]),
         )
-    for end, sign in (("front", 1.0), ("rear", -1.0)):
+    if four:  # one drive a side: the rear wheel turns with the front one
+        equality = ET.SubElement(root, "equality")
+        for side in ("left", "right"):
+            ET.SubElement(equality, "joint", joint1=f"rear_{side}_wheel", joint2=f"{side}_wheel",
+                          polycoef="0 1 0 0 0")  # fmt: skip
+    for end, sign in (("front", 1.0), ("rear", -1.0)) if not four else ():
         # Higher priority: the caster's own (frictionless) contact settings win.
         ET.SubElement(
             chassis,

@@ -233,6 +233,14 @@ class MobileScene:
         Viscous friction of each wheel's bearing (N·m·s/rad).
     timestep : float
         Physics step (s); command periods must be whole multiples of it.
+    drive : {"differential", "skid_steer"}
+        ``"skid_steer"``: the real four-wheel base instead, its wheels at the corners
+        of the real track and wheelbase, no casters, each side's rear wheel turning
+        with its front one (one drive a side). It skids in turns as MuJoCo's point
+        contacts let it: the Jackal turns in place at about half the rate its
+        controller's track multiplier (1.5, measured on the robot) predicts, as if
+        the multiplier were about 2.9; driving straight it matches the differential
+        scene. The log's kinematic gap says how far a run strays from the plan.
     """
 
     model: DiffDrive = field(default_factory=jackal)
@@ -243,9 +251,14 @@ class MobileScene:
     wheel_gain: float = 10.0
     wheel_damping: float = 0.0
     timestep: float = 0.001
+    drive: str = "differential"
     _compiled: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self) -> None:
+        if self.drive not in ("differential", "skid_steer"):
+            raise InvalidInputError(
+                f"drive must be 'differential' or 'skid_steer', got {self.drive!r}"
+            )
         if not isinstance(self.model, DiffDrive):
             raise InvalidInputError(
                 "a mobile scene needs a DiffDrive model (wheels to drive), got "
@@ -264,10 +277,12 @@ class MobileScene:
             raise InvalidInputError(f"wheel_damping must be one number >= 0, got {damping}")
         object.__setattr__(self, "wheel_damping", float(damping))
         mass = 17.0 if self.model.mass is None else self.model.mass
-        if 2.0 * self.wheel_mass + 0.02 * mass > 0.9 * mass:
+        wheels = 4 if self.drive == "skid_steer" else 2
+        if wheels * self.wheel_mass + (0.0 if wheels == 4 else 0.02 * mass) > 0.9 * mass:
             raise InvalidInputError(
-                f"two wheels of {self.wheel_mass:g} kg leave no chassis in a {mass:g} kg robot; "
-                "wheels and casters must weigh less than 90% of the model's mass"
+                f"{'four' if wheels == 4 else 'two'} wheels of {self.wheel_mass:g} kg leave no "
+                f"chassis in a {mass:g} kg robot; wheels and casters must weigh less than 90% "
+                "of the model's mass"
             )
         if self.caster_radius >= self.model.wheel_radius:
             raise InvalidInputError(
@@ -291,6 +306,7 @@ class MobileScene:
             wheel_gain=self.wheel_gain,
             wheel_damping=self.wheel_damping,
             timestep=self.timestep,
+            drive=self.drive,
         )
 
     def compiled(self) -> Any:
