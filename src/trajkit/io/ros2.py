@@ -134,9 +134,9 @@ def write_bag(
         A simulated run of the plan, stamped with the simulation clock from
         ``start_ns`` (the plan's start). An arm's: ``/joint_states`` of the simulated
         joints (positions, velocities, efforts) and the commands sent to its
-        actuators, as ``std_msgs/Float64MultiArray`` on
-        ``/<controller>_controller/commands`` (``/position_servo_controller/commands``
-        for the position servos, say). A base's: the commands sent on
+        actuators, as ``std_msgs/Float64MultiArray`` on a topic named after the
+        simulated controller (``/position_servo_controller/commands`` for the
+        position servos, say). A base's: the commands sent on
         ``/cmd_vel`` (instead of the plan's), ``nav_msgs/Odometry`` on ``/odom``
         (from the wheel encoders of a MuJoCo run, else the simulated pose; its twist
         from the change of pose over each row, in the base's frame) with the same
