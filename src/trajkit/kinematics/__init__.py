@@ -18,6 +18,7 @@ from trajkit.kinematics.dynamics import (
 )
 from trajkit.kinematics.ik import IKSolution
 from trajkit.kinematics.inertials import Inertials
+from trajkit.kinematics.mjcf import from_mjcf
 from trajkit.kinematics.physical import Physical
 from trajkit.kinematics.robots import BUILTIN, UR5, AnalyticChain, Planar2R, RRBot, Spatial3R
 from trajkit.kinematics.urdf import from_urdf
@@ -36,6 +37,7 @@ __all__ = [
     "RRBot",
     "SerialChain",
     "Spatial3R",
+    "from_mjcf",
     "from_urdf",
     "inertials_from_dh",
     "inverse_dynamics",

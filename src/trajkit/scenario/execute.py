@@ -18,7 +18,7 @@ import trajkit as tk
 from trajkit import mobile
 from trajkit.errors import TrajkitError
 from trajkit.io.atomic import StagedFiles, staged_files
-from trajkit.kinematics import BUILTIN, DHRow, SerialChain, from_urdf
+from trajkit.kinematics import BUILTIN, DHRow, SerialChain, from_mjcf, from_urdf
 from trajkit.mobile.limits import KEYWORDS
 from trajkit.mobile.models import BASES
 from trajkit.planners import CATALOG
@@ -73,6 +73,8 @@ def robot_of(scenario: Scenario) -> Any:
         rows = [DHRow(r["a"], r["alpha"], r["d"], r["theta"], r["kind"], r["lower"], r["upper"])
                 for r in robot["dh"]]  # fmt: skip
         return SerialChain.from_dh(rows, convention=robot["convention"], name=scenario.name)
+    if "mjcf" in robot:
+        return from_mjcf(robot["mjcf"], tip_body=robot["tip_body"])
     return from_urdf(robot["urdf"], base_link=robot["base_link"], tip_link=robot["tip_link"])
 
 

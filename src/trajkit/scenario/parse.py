@@ -62,7 +62,8 @@ class Scenario:
     ----------
     name, description : str
     robot : dict
-        ``builtin`` (a name), or ``dh`` (rows) with ``convention``, or ``urdf`` (a path
+        ``builtin`` (a name), or ``dh`` (rows) with ``convention``, or ``mjcf`` (a path,
+        with ``tip_body``), or ``urdf`` (a path
         resolved against the scenario's folder); empty for a joint-space task
         without a robot.
     task : dict
@@ -200,9 +201,9 @@ def from_data(
 
 def _robot(table: Table, kind: str, folder: Path) -> dict[str, Any]:
     mobile = kind in MOBILE_TASKS
-    given = [key for key in ("builtin", "dh", "urdf") if table.has(key)]
+    given = [key for key in ("builtin", "dh", "urdf", "mjcf") if table.has(key)]
     if len(given) != 1:
-        raise ScenarioError(f"{table.path}: give exactly one of builtin, dh or urdf, got "
+        raise ScenarioError(f"{table.path}: give exactly one of builtin, dh, urdf or mjcf, got "
                             f"{', '.join(given) or 'none'}")  # fmt: skip
     robot: dict[str, Any]
     if given == ["builtin"]:
@@ -227,6 +228,9 @@ def _robot(table: Table, kind: str, folder: Path) -> dict[str, Any]:
         conventions = ("standard", "modified")
         robot = {"dh": rows, "convention": table.string("convention", "standard",
                                                         choices=conventions)}  # fmt: skip
+    elif given == ["mjcf"]:
+        robot = {"mjcf": (folder / table.string("mjcf")).resolve(),
+                 "tip_body": table.string("tip_body", None)}  # fmt: skip
     else:
         urdf = table.string("urdf")
         robot = {
