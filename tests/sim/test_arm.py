@@ -455,6 +455,40 @@ def test_to_csv_round_trips_at_full_precision(logs, tmp_path):
     np.testing.assert_array_equal(table, expected)
 
 
+def test_a_log_read_back_from_its_csv_is_the_log(logs, tmp_path):
+    log = logs["pd_feedforward"]
+    back = sim.ArmLog.from_csv(log.to_csv(tmp_path / "run.csv"))
+    for name in ("t", "desired", "desired_velocity", "desired_acceleration", "actual",
+                 "actual_velocity", "efforts", "revolute"):  # fmt: skip
+        np.testing.assert_array_equal(getattr(back, name), getattr(log, name))
+    assert back.joint_names == log.joint_names and back.controller == "run"
+    assert back.commands.shape == (log.t.size, 0)  # the file holds no commands
+    np.testing.assert_array_equal(back.max_error, log.max_error)
+    assert len(tk.plot.tracking(back).get_axes()) == 4  # plotted again
+
+
+def test_files_that_are_not_arm_logs_are_refused(tmp_path):
+    samples = tk.quintic(0.0, 1.0, 1.0).sample(0.1).to_csv(tmp_path / "plan.csv")
+    with pytest.raises(InvalidInputError, match=r"not an arm log \(t \[s\], then 6 columns"):
+        sim.ArmLog.from_csv(samples)
+    broken = tmp_path / "broken.csv"
+    broken.write_text("t [s]," + ",".join(f"q1_{k} [rad]" for k in "abcdef") + "\n0,1,2,3,4,5,6\n",
+                      encoding="utf-8")  # fmt: skip
+    with pytest.raises(InvalidInputError, match="column 2 'q1_a \\[rad\\]' is not"):
+        sim.ArmLog.from_csv(broken)
+    short = tmp_path / "short.csv"
+    header = "t [s]," + ",".join(f"q1_{k}" for k in ("desired [rad]", "actual [rad]",
+                                                      "desired_velocity [rad/s]",
+                                                      "actual_velocity [rad/s]",
+                                                      "desired_acceleration [rad/s^2]",
+                                                      "effort [N·m]"))  # fmt: skip
+    short.write_text(header + "\n0,1,2,3\n", encoding="utf-8")
+    with pytest.raises(InvalidInputError, match="line 2: expected 7 finite numbers"):
+        sim.ArmLog.from_csv(short)
+    with pytest.raises(InvalidInputError, match="cannot read"):
+        sim.ArmLog.from_csv(tmp_path / "missing.csv")
+
+
 def test_tracking_plot_has_position_velocity_error_and_effort_panels(logs):
     log = logs["position"]
     figure = tk.plot.tracking(log)

@@ -12,7 +12,7 @@ import numpy as np
 from trajkit._validation import FloatArray
 from trajkit.io.atomic import atomic_write
 
-__all__ = ["write_csv"]
+__all__ = ["read_csv", "write_csv"]
 
 
 def write_csv(path: str | os.PathLike[str], header: Sequence[str], table: FloatArray) -> Path:
@@ -30,3 +30,41 @@ def write_csv(path: str | os.PathLike[str], header: Sequence[str], table: FloatA
         text.detach()
 
     return atomic_write(path, write)
+
+
+def read_csv(path: str | os.PathLike[str]) -> tuple[list[str], FloatArray]:
+    """The header and the rows of numbers of a CSV table written by :func:`write_csv`.
+
+    Raises
+    ------
+    InvalidInputError
+        An unreadable or empty file, or a row that is not ``len(header)`` finite
+        numbers; the message names the line.
+    """
+    import csv
+
+    from trajkit.errors import InvalidInputError
+
+    source = Path(path)
+    try:
+        lines = source.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InvalidInputError(f"cannot read {source}: {exc}") from None
+    if not lines or not lines[0].strip():
+        raise InvalidInputError(f"{source}: empty file, expected a header line")
+    header = next(csv.reader(lines[:1]))
+    rows = []
+    for number, line in enumerate(lines[1:], start=2):
+        cells = line.split(",")
+        try:
+            values = [float(cell) for cell in cells]
+        except ValueError:
+            values = []
+        if len(values) != len(header) or not np.all(np.isfinite(values)):
+            raise InvalidInputError(
+                f"{source}, line {number}: expected {len(header)} finite numbers, got {line!r:.80}"
+            )
+        rows.append(values)
+    if not rows:
+        raise InvalidInputError(f"{source}: no rows after the header")
+    return header, np.array(rows)

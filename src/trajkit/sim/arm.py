@@ -117,6 +117,49 @@ class ArmLog:
             )
         return "\n".join(lines)
 
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike[str]) -> ArmLog:
+        """Read a log written by :meth:`to_csv` (to plot or check a recorded run again).
+
+        The file holds no actuator commands nor controller name: ``commands`` comes
+        back empty, ``controller`` is the file's name. Joints are revolute where their
+        positions are in rad.
+
+        Raises
+        ------
+        InvalidInputError
+            A file whose header is not :meth:`to_csv`'s (the message names the
+            column), or a malformed row.
+        """
+        from trajkit.io.table import read_csv
+
+        source = Path(path)
+        header, table = read_csv(source)
+        if header[0] != "t [s]" or (len(header) - 1) % 6:
+            raise InvalidInputError(f"{source}: not an arm log (t [s], then 6 columns per "
+                                    f"joint), got {len(header)} columns")  # fmt: skip
+        ndof = (len(header) - 1) // 6
+        names, revolute = [], []
+        for j, cell in enumerate(header[1 : 1 + ndof]):
+            name, _, unit = cell.partition("_desired [")
+            if unit not in ("rad]", "m]"):
+                raise InvalidInputError(f"{source}: column {j + 2} {cell!r} is not "
+                                        "'<joint>_desired [rad]' or '[m]'")  # fmt: skip
+            names.append(name)
+            revolute.append(unit == "rad]")
+        labels = ("desired", "actual", "desired_velocity", "actual_velocity",
+                  "desired_acceleration", "effort")  # fmt: skip
+        for k, label in enumerate(labels):
+            for j, name in enumerate(names):
+                cell = header[1 + k * ndof + j]
+                if not cell.startswith(f"{name}_{label} ["):
+                    raise InvalidInputError(f"{source}: column {2 + k * ndof + j} {cell!r} is "
+                                            f"not {name}_{label}")  # fmt: skip
+        blocks = [table[:, 1 + k * ndof : 1 + (k + 1) * ndof] for k in range(6)]
+        return cls(table[:, 0], blocks[0], blocks[2], blocks[4], blocks[1], blocks[3],
+                   np.zeros((table.shape[0], 0)), blocks[5], tuple(names), source.stem,
+                   np.array(revolute))  # fmt: skip
+
     def to_csv(self, path: str | os.PathLike[str]) -> Path:
         """Write every row: time, desired and actual states, efforts (SI units)."""
         header = ["t [s]"]
