@@ -29,7 +29,9 @@ from trajkit.viz import animate
 def matplotlib_save(figure, draw, count, path, fps, progress, moving):
     """The previous writer: FuncAnimation.save with PillowWriter, no blitting."""
     from matplotlib import animation
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+    FigureCanvasAgg(figure).draw()  # the 3-D view's projection, which the frames use
     movie = animation.FuncAnimation(figure, draw, frames=count, blit=False, repeat=False)
     movie.save(path, writer=animation.PillowWriter(fps=fps))
     return path

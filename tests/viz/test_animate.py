@@ -284,3 +284,16 @@ def test_each_frame_draws_only_what_moved(tmp_path, monkeypatch):
     monkeypatch.setattr(FigureCanvasAgg, "draw", counted)
     animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view="3d", fps=5, size=2.0)
     assert full["draws"] == 1
+
+
+@pytest.mark.parametrize("view", ["3d", "xz"])
+def test_every_frame_shows_the_arm_and_its_trace(tmp_path, view):
+    # The moving lines are drawn on the figure drawn once: blue links, a red trace.
+    path = animate.arm(RRBot(), PLAN, tmp_path / "arm.gif", view=view, fps=5, size=3.0)
+    with Image.open(path) as image:
+        for index in (3, image.n_frames - 1):
+            image.seek(index)
+            pixels = np.asarray(image.convert("RGB")).reshape(-1, 3).astype(int)
+            blue = np.abs(pixels - [31, 119, 180]).sum(axis=1) < 40  # tab:blue
+            red = np.abs(pixels - [214, 39, 40]).sum(axis=1) < 40  # tab:red
+            assert blue.sum() > 100 and red.sum() > 10

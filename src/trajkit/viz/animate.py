@@ -349,9 +349,15 @@ def arm(
     span = max(float((high - low).max()) / 2.0, 1e-6) * 1.1
     middle = (high + low) / 2.0
     if view == "3d":
+        from matplotlib.lines import Line2D
+        from mpl_toolkits.mplot3d import proj3d
+
         ax = figure.add_subplot(projection="3d")
-        (links,) = ax.plot([], [], [], "-o", color="tab:blue", lw=3, ms=5)
-        (trace,) = ax.plot([], [], [], color="tab:red", lw=1.2)
+        # The moving lines are plain 2-D lines of the projected points: the view never
+        # changes, so projecting a frame's few points beats drawing 3-D lines.
+        # (Axes3D.plot would make 3-D lines: these are added as they are.)
+        links = ax.add_line(Line2D([], [], marker="o", color="tab:blue", lw=3, ms=5))
+        trace = ax.add_line(Line2D([], [], color="tab:red", lw=1.2))
         for setter, m in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), middle, strict=True):
             setter(m - span, m + span)
         ax.set_zlabel("z [m]")
@@ -360,7 +366,9 @@ def arm(
         axes = (0, 1)
 
         def place(line: Any, points: FloatArray) -> None:
-            line.set_data_3d(points[:, 0], points[:, 1], points[:, 2])
+            # ax.M, the projection, is the one the figure's first full draw computed.
+            x, y, _ = proj3d.proj_transform(points[:, 0], points[:, 1], points[:, 2], ax.M)
+            line.set_data(x, y)
     else:
         axes = _VIEWS[view]
         ax = figure.add_subplot()
