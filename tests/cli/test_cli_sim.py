@@ -133,7 +133,7 @@ def test_mobile_twist_in_mujoco_matches_the_arc(tmp_path, capsys):
     assert status == 0, err
     assert "simulated in MuJoCo at 10 Hz: feedforward" in out
     table = np.loadtxt(csv, delimiter=",", skiprows=1)
-    assert table.shape == (151, 23)
+    assert table.shape == (151, 24)
     # Ground truth against the exact arc (R sin θ, R (1 − cos θ)): measured 3.7 mm.
     radius, theta = 0.1 / np.radians(10.0), np.radians(150.0)
     arc_end = np.array([radius * np.sin(theta), radius * (1.0 - np.cos(theta))])

@@ -344,20 +344,35 @@ HEADER = (
 
 def test_log_to_csv_reads_back_exactly(log, tmp_path):
     path = log.to_csv(tmp_path / "log.csv")
-    assert path.read_text().splitlines()[0] == HEADER + ",wheel_left [rad/s],wheel_right [rad/s]"
+    assert path.read_text().splitlines()[0] == (
+        HEADER + ",wheel_left [rad/s],wheel_right [rad/s],path_distance [m]")  # fmt: skip
     table = np.loadtxt(path, delimiter=",", skiprows=1)
     expected = np.column_stack([log.t, log.desired, log.actual, log.desired_twist, log.commands,
-                                log.wheel_speeds])  # fmt: skip
+                                log.wheel_speeds, log.path_distance])  # fmt: skip
     np.testing.assert_array_equal(table, expected)
+    back = SimulationLog.from_csv(path)
+    for name in ("t", "desired", "actual", "desired_twist", "commands", "wheel_speeds",
+                 "path_distance"):  # fmt: skip
+        np.testing.assert_array_equal(getattr(back, name), getattr(log, name))
+    assert back.controller == "log" and back.rms_error == log.rms_error
 
 
 def test_unicycle_log_to_csv_has_no_wheels(tmp_path):
     log = simulate(constant_twist(0.2, 0.1, 1.0), sample_step=0.25)
     path = log.to_csv(tmp_path / "unicycle.csv")
-    assert path.read_text().splitlines()[0] == HEADER
+    assert path.read_text().splitlines()[0] == HEADER + ",path_distance [m]"
     table = np.loadtxt(path, delimiter=",", skiprows=1)
-    assert table.shape == (5, 11)
+    assert table.shape == (5, 12)
     np.testing.assert_array_equal(table[:, 4:7], log.actual)
+    assert SimulationLog.from_csv(path).wheel_speeds is None
+
+
+def test_files_that_are_not_base_logs_are_refused(tmp_path):
+    from trajkit import quintic
+
+    plan = quintic(0.0, 1.0, 1.0).sample(0.1).to_csv(tmp_path / "plan.csv")
+    with pytest.raises(InvalidInputError, match=r"plan\.csv: no column 'x_desired \[m\]'"):
+        SimulationLog.from_csv(plan)
 
 
 # Bad input ------------------------------------------------------------------------

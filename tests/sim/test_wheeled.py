@@ -236,16 +236,37 @@ def test_mobile_run_refuses_bad_input(plan, kwargs, match):
 def test_to_csv_round_trips_at_full_precision(twist_log, tmp_path):
     path = twist_log.to_csv(tmp_path / "base.csv")
     header = path.read_text(encoding="utf-8").splitlines()[0].split(",")
-    assert len(header) == 23
+    assert len(header) == 24
     assert header[:4] == ["t [s]", "x_desired [m]", "y_desired [m]", "theta_desired [rad]"]
     assert header[7:10] == ["x_odometry [m]", "y_odometry [m]", "theta_odometry [rad]"]
-    assert header[-2:] == ["torque_left [N·m]", "torque_right [N·m]"]
+    assert header[-3:] == ["torque_left [N·m]", "torque_right [N·m]", "path_distance [m]"]
     table = np.loadtxt(path, skiprows=1, delimiter=",", encoding="utf-8")
     log = twist_log
     expected = np.column_stack([log.t, log.desired, log.actual, log.odometry, log.kinematic,
                                 log.desired_twist, log.commands, log.wheel_speeds,
-                                log.measured_wheel_speeds, log.wheel_torques])  # fmt: skip
+                                log.measured_wheel_speeds, log.wheel_torques,
+                                log.path_distance])  # fmt: skip
     np.testing.assert_array_equal(table, expected)
+    back = sim.PhysicsLog.from_csv(path)  # read back, bit for bit, to plot or check again
+    fields = (
+        "t",
+        "desired",
+        "actual",
+        "odometry",
+        "kinematic",
+        "desired_twist",
+        "commands",
+        "wheel_speeds",
+        "measured_wheel_speeds",
+        "wheel_torques",
+        "path_distance",
+    )
+    for name in fields:
+        np.testing.assert_array_equal(getattr(back, name), getattr(log, name))
+    assert back.controller == "base" and back.odometry_drift == log.odometry_drift
+    with pytest.raises(InvalidInputError, match="no column 'x_odometry \\[m\\]'"):
+        sim.PhysicsLog.from_csv(tk.mobile.simulate(twist_plan(), sample_step=0.1).to_csv(
+            tmp_path / "kinematic.csv"))  # fmt: skip
 
 
 def test_mobile_plots_take_a_physics_log(twist_log):

@@ -12,7 +12,7 @@ import numpy as np
 from trajkit._validation import FloatArray
 from trajkit.io.atomic import atomic_write
 
-__all__ = ["read_csv", "write_csv"]
+__all__ = ["named_columns", "read_csv", "write_csv"]
 
 
 def write_csv(path: str | os.PathLike[str], header: Sequence[str], table: FloatArray) -> Path:
@@ -68,3 +68,23 @@ def read_csv(path: str | os.PathLike[str]) -> tuple[list[str], FloatArray]:
     if not rows:
         raise InvalidInputError(f"{source}: no rows after the header")
     return header, np.array(rows)
+
+
+def named_columns(source: os.PathLike[str] | str, header: Sequence[str], table: FloatArray,
+                  names: Sequence[str]) -> dict[str, FloatArray]:  # fmt: skip
+    """The columns ``names`` of a table read by :func:`read_csv`, by their header cells.
+
+    Raises
+    ------
+    InvalidInputError
+        A column missing: the message names it and the file.
+    """
+    from trajkit.errors import InvalidInputError
+
+    where = {cell: k for k, cell in enumerate(header)}
+    missing = [name for name in names if name not in where]
+    if missing:
+        shown = ", ".join(header[:4])
+        raise InvalidInputError(f"{source}: no column {missing[0]!r} (its header has "
+                                f"{len(header)} columns: {shown}, ...)")  # fmt: skip
+    return {name: table[:, where[name]] for name in names}

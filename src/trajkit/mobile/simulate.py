@@ -138,7 +138,51 @@ class SimulationLog:
         if self.wheel_speeds is not None:
             header += ["wheel_left [rad/s]", "wheel_right [rad/s]"]
             columns.append(self.wheel_speeds)
+        header.append("path_distance [m]")
+        columns.append(self.path_distance[:, None])
         return write_csv(path, header, np.concatenate(columns, axis=1))
+
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike[str]) -> SimulationLog:
+        """Read a log written by :meth:`to_csv`, bit for bit (the controller: the file's name).
+
+        Raises
+        ------
+        InvalidInputError
+            A file without :meth:`to_csv`'s columns (the message names the first
+            missing), or a malformed row.
+        """
+        from trajkit.io.table import named_columns, read_csv
+
+        source = Path(path)
+        header, table = read_csv(source)
+        column = named_columns(source, header, table, LOG_COLUMNS)
+        wheels = None
+        if "wheel_left [rad/s]" in header:
+            pair = named_columns(source, header, table, ("wheel_left [rad/s]",
+                                                         "wheel_right [rad/s]"))  # fmt: skip
+            wheels = np.stack(list(pair.values()), axis=1)
+        return cls(**csv_fields(column), wheel_speeds=wheels, controller=source.stem)
+
+
+#: The columns every base log's CSV has.
+LOG_COLUMNS = ("t [s]", "x_desired [m]", "y_desired [m]", "theta_desired [rad]", "x [m]", "y [m]",
+                "theta [rad]", "v_desired [m/s]", "omega_desired [rad/s]", "v_command [m/s]",
+                "omega_command [rad/s]", "path_distance [m]")  # fmt: skip
+
+
+def csv_fields(column: dict[str, FloatArray]) -> dict[str, FloatArray]:
+    """A base log's fields from its CSV columns (:data:`LOG_COLUMNS`)."""
+
+    def stacked(*names: str) -> FloatArray:
+        return np.stack([column[name] for name in names], axis=1)
+
+    return {"t": column["t [s]"],
+            "desired": stacked("x_desired [m]", "y_desired [m]", "theta_desired [rad]"),
+            "actual": stacked("x [m]", "y [m]", "theta [rad]"),
+            "desired_twist": stacked("v_desired [m/s]", "omega_desired [rad/s]"),
+            "commands": stacked("v_command [m/s]", "omega_command [rad/s]"),
+            "path_distance": column["path_distance [m]"]}  # fmt: skip
 
 
 def _desired_rows(state: MobileState) -> list[tuple[float, ...]]:
