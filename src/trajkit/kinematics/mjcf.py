@@ -17,7 +17,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from trajkit._validation import FloatArray
 from trajkit.errors import InvalidInputError, MissingDependencyError
@@ -141,6 +140,8 @@ def _moves(model: Any, body: int, children: dict[int, list[int]]) -> bool:
 
 
 def _body_frame(model: Any, body: int) -> FloatArray:
+    from scipy.spatial.transform import Rotation  # not at import: trajkit loads fast
+
     frame = np.eye(4)
     w, x, y, z = model.body_quat[body]
     frame[:3, :3] = Rotation.from_quat([x, y, z, w]).as_matrix()
@@ -150,6 +151,8 @@ def _body_frame(model: Any, body: int) -> FloatArray:
 
 def _physical(model: Any, frames: list[tuple[int, FloatArray]], source: Path) -> Physical:
     """Each moving body's inertia, with the bodies welded to it, in its joint's frame."""
+    from scipy.spatial.transform import Rotation
+
     moving = {body: k for k, (body, _) in enumerate(frames)}
     parts: list[list[tuple[float, FloatArray, FloatArray]]] = [[] for _ in frames]
     owner = {}  # every body: the moving body it rides on, and its pose in that body's frame
