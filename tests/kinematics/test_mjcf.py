@@ -101,3 +101,23 @@ def test_the_tip_body_chooses_a_branch_and_bad_files_are_refused(tmp_path):
     with pytest.raises(InvalidInputError, match="branches below body 'root' into"):
         from_mjcf(fork)
     assert from_mjcf(fork, tip_body="left").names == ["joint0"]
+
+
+def test_a_joints_reference_position_is_kept(tmp_path):
+    # MJCF draws a body at its joint's ``ref``: MuJoCo's qpos moves it by qpos - ref.
+    arm = tmp_path / "ref.xml"
+    arm.write_text(
+        "<mujoco><compiler angle='radian'/><worldbody><body name='a'>"
+        "<joint name='j1' type='hinge' axis='0 0 1' ref='0.4'/><geom size='0.05' mass='1'/>"
+        "<body name='b' pos='0.3 0 0'><joint name='j2' type='slide' axis='1 0 0' ref='0.1'/>"
+        "<geom size='0.05' mass='1'/></body></body></worldbody></mujoco>",
+        encoding="utf-8",
+    )
+    chain = from_mjcf(arm)
+    model = mujoco.MjModel.from_xml_path(str(arm))
+    data = mujoco.MjData(model)
+    tip = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "b")
+    for q in ([0.0, 0.0], [0.4, 0.1], [1.3, -0.2]):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        np.testing.assert_allclose(chain.fk(np.array(q))[:3, 3], data.xpos[tip], atol=1e-12)

@@ -87,9 +87,12 @@ def from_mjcf(path: str | os.PathLike[str], *, tip_body: str | None = None) -> S
         anchor[:3, 3] = model.jnt_pos[first]
         limited = bool(model.jnt_limited[first])
         lower, upper = model.jnt_range[first] if limited else (-np.inf, np.inf)
+        # The file's body pose is the joint at its reference ``ref`` (qpos0): q moves the
+        # joint by q - ref, trajkit's q + offset.
+        reference = float(model.qpos0[model.jnt_qposadr[first]])
         joints.append(Joint(name(joint_kind, first), "revolute" if kind == _HINGE else "prismatic",
                             origin=pose @ anchor, axis=np.array(model.jnt_axis[first]),
-                            lower=float(lower), upper=float(upper)))  # fmt: skip
+                            lower=float(lower), upper=float(upper), offset=-reference))  # fmt: skip
         frames.append((body, anchor))
         pose = np.linalg.inv(anchor)  # the next body is placed relative to this body
     if not joints:
