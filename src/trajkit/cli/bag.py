@@ -62,17 +62,16 @@ def run_bag(args: argparse.Namespace) -> int:
     print(f"{args.bag}: {len(bag.topics)} topic(s)")
     for topic, (kind, count) in sorted(bag.topics.items()):
         print(f"  {topic}: {count} × {kind}")
+    from trajkit.cli import _vector  # the flags' lists as `trajkit plan` reads them
+
     scale = np.pi / 180.0 if args.deg else 1.0
 
-    def bound(values: list[list[float]] | None, angular: bool = True) -> object:
-        if values is None:
-            return None
-        flat = np.array([v for group in values for v in group], dtype=float)
-        flat = flat * (scale if angular else 1.0)
-        return flat[0] if flat.size == 1 else flat  # one number: every joint
+    def angular(values: list[list[float]] | None) -> object:
+        flat = _vector(values)
+        return None if flat is None else flat * scale
 
-    limits = tk.Limits(velocity=bound(args.vmax), acceleration=bound(args.amax))
-    effort = bound(args.effort, angular=False)
+    limits = tk.Limits(velocity=angular(args.vmax), acceleration=angular(args.amax))
+    effort = _vector(args.effort)
     plan = states = None
     ok = True
     # Default: /joint_trajectory, else the bag's one JointTrajectory topic.

@@ -337,9 +337,9 @@ def _vectors(vectors: list[Any]) -> FloatArray:
 
 def _planar(poses: list[Any]) -> FloatArray:
     """``(x, y, yaw)`` of geometry_msgs/Pose messages."""
-    out = np.empty((len(poses), 3))
-    for k, pose in enumerate(poses):
-        q = pose.orientation
-        yaw = np.arctan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-        out[k] = pose.position.x, pose.position.y, yaw
-    return out
+    rows = [(p.position.x, p.position.y, p.orientation.w, p.orientation.x, p.orientation.y,
+             p.orientation.z) for p in poses]  # fmt: skip
+    fields = np.array(rows, dtype=float).reshape(-1, 6)
+    x, y, w, qx, qy, qz = fields.T
+    return np.stack([x, y, np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy**2 + qz**2))],
+                    axis=1)  # fmt: skip

@@ -157,18 +157,30 @@ class SimulationLog:
         source = Path(path)
         header, table = read_csv(source)
         column = named_columns(source, header, table, LOG_COLUMNS)
-        wheels = None
-        if "wheel_left [rad/s]" in header:
-            pair = named_columns(source, header, table, ("wheel_left [rad/s]",
-                                                         "wheel_right [rad/s]"))  # fmt: skip
-            wheels = np.stack(list(pair.values()), axis=1)
-        return cls(**csv_fields(column), wheel_speeds=wheels, controller=source.stem)
+        return cls(**csv_fields(column), **cls._csv_extras(source, header, table),
+                   controller=source.stem)  # fmt: skip
+
+    @classmethod
+    def _csv_extras(cls, source: Path, header: list[str], table: FloatArray) -> dict:
+        """The fields beyond :data:`LOG_COLUMNS` (a subclass's own), from the CSV table."""
+        if "wheel_left [rad/s]" not in header:
+            return {"wheel_speeds": None}
+        wheels = ("wheel_left [rad/s]", "wheel_right [rad/s]")
+        return {"wheel_speeds": csv_block(source, header, table, wheels)}
 
 
 #: The columns every base log's CSV has.
 LOG_COLUMNS = ("t [s]", "x_desired [m]", "y_desired [m]", "theta_desired [rad]", "x [m]", "y [m]",
                 "theta [rad]", "v_desired [m/s]", "omega_desired [rad/s]", "v_command [m/s]",
                 "omega_command [rad/s]", "path_distance [m]")  # fmt: skip
+
+
+def csv_block(source: Path, header: list[str], table: FloatArray,
+              names: tuple[str, ...]) -> FloatArray:  # fmt: skip
+    """The columns ``names`` of a CSV table, side by side, (n, len(names))."""
+    from trajkit.io.table import named_columns
+
+    return np.stack(list(named_columns(source, header, table, names).values()), axis=1)
 
 
 def csv_fields(column: dict[str, FloatArray]) -> dict[str, FloatArray]:

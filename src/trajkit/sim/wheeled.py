@@ -127,32 +127,22 @@ class PhysicsLog(SimulationLog):
         return write_csv(path, [*header, "path_distance [m]"], np.concatenate(columns, axis=1))
 
     @classmethod
-    def from_csv(cls, path: str | os.PathLike[str]) -> PhysicsLog:
-        """Read a log written by :meth:`to_csv`, bit for bit.
+    def _csv_extras(cls, source: Path, header: list[str], table: FloatArray) -> dict:
+        """Odometry, prediction and wheels from the CSV (``from_csv``, inherited).
 
-        The file does not say the controller (the file's name stands for it) nor the
+        The file does not say the controller (its name stands for it) nor the
         feedback (``"ground_truth"``).
-
-        Raises
-        ------
-        InvalidInputError
-            A file without :meth:`to_csv`'s columns (the message names the first
-            missing), or a malformed row.
         """
-        from trajkit.io.table import named_columns, read_csv
-        from trajkit.mobile.simulate import LOG_COLUMNS, csv_fields
+        from trajkit.mobile.simulate import csv_block
 
-        source = Path(path)
-        header, table = read_csv(source)
-        base = named_columns(source, header, table, LOG_COLUMNS)
         names = ("x_odometry [m]", "y_odometry [m]", "theta_odometry [rad]", "x_kinematic [m]",
                  "y_kinematic [m]", "theta_kinematic [rad]", "wheel_left_command [rad/s]",
                  "wheel_right_command [rad/s]", "wheel_left [rad/s]", "wheel_right [rad/s]",
                  "torque_left [N·m]", "torque_right [N·m]")  # fmt: skip
-        extra = np.stack(list(named_columns(source, header, table, names).values()), axis=1)
-        return cls(**csv_fields(base), wheel_speeds=extra[:, 6:8], controller=source.stem,
-                   odometry=extra[:, 0:3], kinematic=extra[:, 3:6],
-                   measured_wheel_speeds=extra[:, 8:10], wheel_torques=extra[:, 10:12])  # fmt: skip
+        extra = csv_block(source, header, table, names)
+        return {"odometry": extra[:, 0:3], "kinematic": extra[:, 3:6],
+                "wheel_speeds": extra[:, 6:8], "measured_wheel_speeds": extra[:, 8:10],
+                "wheel_torques": extra[:, 10:12]}  # fmt: skip
 
 
 class _Base:
